@@ -1,0 +1,5 @@
+import sys
+
+from stampc.cli import main
+
+sys.exit(main())

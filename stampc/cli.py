@@ -1,0 +1,54 @@
+"""The ``stampc`` command line: one subcommand per pipeline stage.
+
+Each subcommand lives in ``stampc/commands/<name>.py`` and exposes
+``HELP: str``, ``add_arguments(parser)`` and ``run(args) -> int``. Exit codes:
+0 success, 1 diagnostics with errors (or failed run), 2 usage or I/O errors.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import sys
+
+from stampc import __version__
+
+COMMANDS = ("check", "fmt", "compile", "solve", "refine", "execute")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="stampc",
+        description="stampc: stochastic task and motion planning toolkit",
+    )
+    parser.add_argument("--version", action="version", version=f"stampc {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        module_name = f"stampc.commands.{name}"
+        if importlib.util.find_spec(module_name) is None:
+            continue  # command not part of this build
+        module = importlib.import_module(module_name)
+        cmd = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(cmd)
+        cmd.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "_run", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args._run(args))
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Intermediate representations: lifted (`lifted`) and grounded (`grounded`)."""

@@ -1,0 +1,245 @@
+"""The grounded (propositional) abstract SSP IR.
+
+States are Python ``int`` bitsets over ``GroundModel.facts`` (bit i set = fact i true):
+hashable, compact and fast to mask. Static facts are compiled away during grounding.
+
+Effects stay *factored* (independent probabilistic blocks, conditional effects kept as
+conditions) because enumerating joint outcomes up front explodes on domains such as
+SysAdmin; :func:`outcome_distribution` enumerates them per state on demand, and
+:meth:`GroundAction.static_outcomes` caches the enumeration when no condition depends
+on the state.
+
+Semantics (PPDDL/MDPSim): all conditions are evaluated in the *old* state; deletes are
+applied before adds, so a fact both added and deleted ends up true.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Iterable, Union
+
+from stampc.ir.lifted import Model
+
+
+@dataclass(frozen=True, order=True)
+class GroundAtom:
+    predicate: str
+    args: tuple[str, ...]
+
+    def __str__(self) -> str:
+        return f"{self.predicate}({', '.join(self.args)})"
+
+
+# ------------------------------------------------------------ conditions
+@dataclass(frozen=True)
+class GLit:
+    fact: int
+    positive: bool = True
+
+
+@dataclass(frozen=True)
+class GAnd:
+    args: tuple["GFormula", ...]
+
+
+@dataclass(frozen=True)
+class GOr:
+    args: tuple["GFormula", ...]
+
+
+GFormula = Union[GLit, GAnd, GOr]
+
+
+@dataclass(frozen=True)
+class GroundCondition:
+    """Conjunction ``pos ⊆ s``, ``neg ∩ s = ∅`` plus non-conjunctive remainder ``rest``.
+
+    ``never`` marks a condition simplified to false during grounding.
+    """
+
+    pos: int = 0
+    neg: int = 0
+    rest: tuple[GFormula, ...] = ()
+    never: bool = False
+
+    def holds(self, state: int) -> bool:
+        if self.never or (state & self.pos) != self.pos or (state & self.neg):
+            return False
+        return all(_eval(f, state) for f in self.rest)
+
+    @property
+    def is_trivial(self) -> bool:
+        return not (self.pos or self.neg or self.rest or self.never)
+
+
+TRIVIAL = GroundCondition()
+
+
+def _eval(f: GFormula, state: int) -> bool:
+    if isinstance(f, GLit):
+        return bool((state >> f.fact) & 1) == f.positive
+    if isinstance(f, GAnd):
+        return all(_eval(a, state) for a in f.args)
+    return any(_eval(a, state) for a in f.args)
+
+
+# --------------------------------------------------------------- effects
+@dataclass(frozen=True)
+class GProb:
+    """An independent probabilistic block; probabilities may sum below 1 (rest: no-op)."""
+
+    outcomes: tuple[tuple[Fraction, "GEffect"], ...]
+
+
+@dataclass(frozen=True)
+class GEffect:
+    """A conjunction of literal adds/deletes, a cost, conditional sub-effects and
+    independent probabilistic blocks.
+
+    ``unknown`` marks facts that a ``?`` effect made unknown; their optimistic value is
+    already folded into ``add``/``delete`` so solvers need not care.
+    """
+
+    add: int = 0
+    delete: int = 0
+    cost: Fraction = Fraction(0)
+    unknown: int = 0
+    whens: tuple[tuple[GroundCondition, "GEffect"], ...] = ()
+    blocks: tuple[GProb, ...] = ()
+
+    @property
+    def state_independent(self) -> bool:
+        return not self.whens and all(
+            e.state_independent for b in self.blocks for _, e in b.outcomes)
+
+
+EMPTY_EFFECT = GEffect()
+
+
+@dataclass(frozen=True)
+class Successor:
+    """One joint outcome: probability, add mask, delete mask, cost, outcome labels."""
+
+    probability: Fraction
+    add: int
+    delete: int
+    cost: Fraction
+    unknown: int = 0
+
+    def apply(self, state: int) -> int:
+        return (state & ~self.delete) | self.add
+
+
+@dataclass(frozen=True)
+class GroundGeneratorUse:
+    """Generator ``generator`` applied to ``inputs`` (object/symbol names) produces the
+    symbols ``outputs`` for one ground action."""
+
+    generator: str
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class GroundAction:
+    index: int
+    name: str
+    args: tuple[str, ...]
+    precondition: GroundCondition
+    effect: GEffect
+    base_cost: Fraction = Fraction(1)
+    #: Index of the lifted action schema in ``GroundModel.lifted.domain.actions``.
+    schema: int = -1
+    #: Generator applications that concretize this action's generated symbols, in order.
+    generated: tuple[GroundGeneratorUse, ...] = ()
+    _cache: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
+
+    @property
+    def label(self) -> str:
+        return f"{self.name}({', '.join(self.args)})" if self.args else self.name
+
+    def static_outcomes(self) -> tuple[Successor, ...] | None:
+        """Joint outcomes if they do not depend on the state (cached), else ``None``."""
+        if "static" not in self._cache:
+            self._cache["static"] = (
+                outcome_distribution(self, 0) if self.effect.state_independent else None)
+        return self._cache["static"]
+
+    def outcomes(self, state: int) -> tuple[Successor, ...]:
+        cached = self.static_outcomes()
+        return cached if cached is not None else outcome_distribution(self, state)
+
+
+@dataclass(frozen=True)
+class GroundModel:
+    facts: tuple[GroundAtom, ...]
+    actions: tuple[GroundAction, ...]
+    init: int
+    goal: GroundCondition
+    objects: tuple[tuple[str, str], ...]  # (name, type)
+    #: Static facts true in every state (compiled away from conditions).
+    static_facts: tuple[GroundAtom, ...] = ()
+    horizon: int | None = None
+    #: True when the lifted model declares costs/rewards (PPDDL :rewards or stamp costs).
+    has_costs: bool = False
+    lifted: Model | None = field(default=None, compare=False, hash=False, repr=False)
+    _index: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
+
+    def fact_index(self, atom: GroundAtom) -> int:
+        if not self._index:
+            self._index.update({f: i for i, f in enumerate(self.facts)})
+        return self._index[atom]
+
+    def has_fact(self, atom: GroundAtom) -> bool:
+        if not self._index:
+            self._index.update({f: i for i, f in enumerate(self.facts)})
+        return atom in self._index
+
+    def state_facts(self, state: int) -> list[GroundAtom]:
+        return [f for i, f in enumerate(self.facts) if (state >> i) & 1]
+
+    def state_of(self, atoms: Iterable[GroundAtom]) -> int:
+        s = 0
+        for a in atoms:
+            s |= 1 << self.fact_index(a)
+        return s
+
+    def is_goal(self, state: int) -> bool:
+        return self.goal.holds(state)
+
+
+# ------------------------------------------------------------- semantics
+def _effect_branches(eff: GEffect, state: int) -> list[tuple[Fraction, int, int, Fraction, int]]:
+    """All joint outcomes of ``eff`` in ``state`` as (p, add, del, cost, unknown)."""
+    add, delete, cost, unknown = eff.add, eff.delete, eff.cost, eff.unknown
+    branches = [(Fraction(1), add, delete, cost, unknown)]
+    for cond, sub in eff.whens:
+        if cond.holds(state):
+            branches = _product(branches, _effect_branches(sub, state))
+    for block in eff.blocks:
+        options: list[tuple[Fraction, int, int, Fraction, int]] = []
+        rest = Fraction(1)
+        for p, sub in block.outcomes:
+            rest -= p
+            for q, a, d, c, u in _effect_branches(sub, state):
+                options.append((p * q, a, d, c, u))
+        if rest > 0:
+            options.append((rest, 0, 0, Fraction(0), 0))
+        branches = _product(branches, options)
+    return branches
+
+
+def _product(left, right):
+    return [(p * q, a1 | a2, d1 | d2, c1 + c2, u1 | u2)
+            for p, a1, d1, c1, u1 in left for q, a2, d2, c2, u2 in right if p * q > 0]
+
+
+def outcome_distribution(action: GroundAction, state: int) -> tuple[Successor, ...]:
+    """Joint outcome distribution of ``action`` in ``state``; identical outcomes merged."""
+    merged: dict[tuple[int, int, Fraction, int], Fraction] = {}
+    for p, a, d, c, u in _effect_branches(action.effect, state):
+        key = (a, d & ~a, c, u)
+        merged[key] = merged.get(key, Fraction(0)) + p
+    return tuple(Successor(p, a, d, action.base_cost + c, u)
+                 for (a, d, c, u), p in merged.items())

@@ -1,0 +1,1 @@
+"""stampc.solvers."""

@@ -1,0 +1,103 @@
+"""The protocol between the refinement engine and a concrete world backend.
+
+A world owns one concrete simulation (a 2-D geometry, a PyBullet client...). The engine
+talks to it only through this small surface:
+
+- ``snapshot()`` / ``restore(state)``: cheap, opaque copies of the concrete state;
+- bound *generators* produce concrete values for symbolic action arguments;
+- bound *evaluators* decide ``?`` predicates in the current concrete state;
+- bound *executors* apply an action's concrete effect for a chosen outcome.
+
+Bound functions are plain Python callables resolved from ``"pkg.module:function"``
+strings (a leading ``.`` is relative to the world's own package). Their signatures:
+
+    generator(ctx: Context, *inputs) -> Iterable[tuple]     # one tuple of outputs per sample
+    evaluator(ctx: Context, *args) -> bool
+    executor(ctx: Context, action: ConcreteAction) -> None  # mutates the current state
+
+``inputs``/``args`` are, position by position, object names (``str``) for discrete
+types and concrete values for continuous ones. Concrete values must be JSON-friendly via
+:func:`to_json` (numbers, sequences of numbers, dicts, or objects with ``to_json()``).
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable, Mapping, Protocol, runtime_checkable
+
+from stampc.ir.grounded import GroundAtom
+
+
+@dataclass(frozen=True)
+class ConcreteAction:
+    """An abstract ground action with its symbolic arguments replaced by values."""
+
+    name: str
+    #: parameter name -> object name (discrete) or concrete value (continuous)
+    args: Mapping[str, Any]
+    #: the chosen outcome's literal effects, arguments already concrete
+    adds: tuple[tuple[str, tuple[Any, ...]], ...] = ()
+    deletes: tuple[tuple[str, tuple[Any, ...]], ...] = ()
+    #: index of the chosen joint outcome and its label(s), if any
+    outcome: int = 0
+    labels: tuple[str, ...] = ()
+
+
+@dataclass
+class Context:
+    """What a bound function sees: the world, a seeded RNG, options and a scratch cache.
+
+    ``cache`` lives as long as the concrete state it was created for; worlds use it to
+    memoise expensive checks (e.g. the set of bodies a trajectory sweeps through).
+    """
+
+    world: "World"
+    rng: random.Random
+    options: Mapping[str, Any] = field(default_factory=dict)
+    cache: dict = field(default_factory=dict)
+    #: symbol name -> concrete value for every symbol bound so far on this path
+    values: Mapping[str, Any] = field(default_factory=dict)
+
+
+@runtime_checkable
+class World(Protocol):
+    """A concrete world backend."""
+
+    #: package used to resolve relative bindings, e.g. "stampc.worlds.plane2d"
+    package: str
+
+    def snapshot(self) -> Any:
+        """Return an opaque, immutable copy of the current concrete state."""
+
+    def restore(self, state: Any) -> None:
+        """Make ``state`` (from :meth:`snapshot`) current."""
+
+    def initial_values(self) -> Mapping[str, Any]:
+        """Concrete values of the problem's continuous objects (e.g. initial poses)."""
+
+    def close(self) -> None:
+        """Release resources (simulator clients, planners)."""
+
+
+BoundFunction = Callable[..., Any]
+
+
+def to_json(value: Any) -> Any:
+    """Convert a concrete value into JSON-compatible data."""
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    if hasattr(value, "to_json"):
+        return value.to_json()
+    if hasattr(value, "tolist"):  # numpy arrays and scalars
+        return value.tolist()
+    if isinstance(value, Mapping):
+        return {str(k): to_json(v) for k, v in value.items()}
+    if isinstance(value, Iterable):
+        return [to_json(v) for v in value]
+    raise TypeError(f"concrete value of type {type(value).__name__} is not JSON-friendly")
+
+
+def atom_args(atom: GroundAtom, values: Mapping[str, Any]) -> tuple[Any, ...]:
+    """Replace symbols in a ground atom by their concrete values (others stay names)."""
+    return tuple(values.get(a, a) for a in atom.args)
