@@ -1,14 +1,31 @@
 """stampc: stochastic task and motion planning (ATM-MDP) toolkit.
 
-Public API (see docs/): ``parse``, ``load``, ``check``, ``compile``, ``import_ppddl``,
-``solve``, ``refine``. Heavy stages are imported lazily so that ``stampc check`` stays
-fast and never touches simulators.
+Public API: ``parse``, ``load``, ``check`` (front end); ``compile``, ``import_ppddl``,
+``load_model``, ``ground``, ``to_ppddl`` (IR and PPDDL); ``solve`` (SSP solvers);
+``refine`` (anytime refinement). Stages are imported lazily so that ``stampc check``
+stays fast and never touches simulators.
 """
 
 from __future__ import annotations
+
+from importlib import import_module
 
 from stampc.diagnostics import Diagnostic, Severity, Span, StampcError
 
 __version__ = "0.1.0"
 
-__all__ = ["Diagnostic", "Severity", "Span", "StampcError", "__version__"]
+_LAZY = {
+    "parse": "stampc.semantics.api", "load": "stampc.semantics.api",
+    "check": "stampc.semantics.api",
+    "compile": "stampc.api", "import_ppddl": "stampc.api", "load_model": "stampc.api",
+    "ground": "stampc.api", "to_ppddl": "stampc.api", "solve": "stampc.api",
+    "refine": "stampc.api",
+}
+
+__all__ = ["Diagnostic", "Severity", "Span", "StampcError", "__version__", *_LAZY]
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        return getattr(import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'stampc' has no attribute {name!r}")

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Iterable, Union
+from typing import Iterable, Iterator, Union
 
 from stampc.ir.lifted import Model
 
@@ -29,6 +29,14 @@ class GroundAtom:
 
     def __str__(self) -> str:
         return f"{self.predicate}({', '.join(self.args)})"
+
+
+def bits(mask: int) -> Iterator[int]:
+    """Indices of the set bits of ``mask``, ascending."""
+    while mask:
+        low = mask & -mask
+        yield low.bit_length() - 1
+        mask ^= low
 
 
 # ------------------------------------------------------------ conditions

@@ -330,3 +330,13 @@ class Model:
 
     domain: Domain
     problem: Problem
+
+    def ground(self):
+        """The grounded model (see ``stampc.ir.ground``)."""
+        from stampc.api import ground
+        return ground(self)
+
+    def to_ppddl(self) -> tuple[str, str]:
+        """PPDDL (domain, problem) text (see ``stampc.backends.ppddl``)."""
+        from stampc.api import to_ppddl
+        return to_ppddl(self)

@@ -1,0 +1,103 @@
+"""The Python API: everything the CLI does, as functions.
+
+    import stampc
+    model = stampc.compile("examples/cluttered_table/domain.stamp", "examples/cluttered_table/problem.stamp")
+    ground = model.ground()
+    solution = stampc.solve(ground)
+    run = stampc.refine(["domain.stamp", "problem.stamp"], world="plane2d")
+
+Bad input raises :class:`stampc.StampcError` carrying located diagnostics.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Callable, Mapping, Sequence
+
+from stampc.diagnostics import Span, StampcError, error
+from stampc.ir.lifted import Model
+
+
+def _paths(files: Sequence[str | Path]) -> list[Path]:
+    paths = [Path(f) for f in files]
+    for p in paths:
+        if not p.is_file():
+            raise FileNotFoundError(f"no such file: {p}")
+    return paths
+
+
+def compile(domain: str | Path, problem: str | Path | None = None) -> Model:  # noqa: A001
+    """Check and lower ``.stamp`` source(s) to the lifted IR (one file may hold both)."""
+    from stampc.ir.lower import lower
+    from stampc.semantics.api import load
+
+    paths = _paths([domain] + ([problem] if problem is not None else []))
+    loaded = load(*paths)
+    return lower(loaded)
+
+
+def import_ppddl(path: str | Path, problem: str | Path | None = None) -> Model:
+    """Import a PPDDL domain/problem (one file, or domain + problem files)."""
+    from stampc.backends.ppddl.importer import import_ppddl as _import
+
+    paths = _paths([path] + ([problem] if problem is not None else []))
+    return _import(paths[0], paths[1] if len(paths) > 1 else None)
+
+
+def load_model(files: Sequence[str | Path]) -> Model:
+    """Dispatch on the file suffix: ``.pddl``/``.ppddl`` import, anything else compiles."""
+    paths = _paths(files)
+    if not paths or len(paths) > 2:
+        raise StampcError([error("E001", f"expected 1 or 2 input files, got {len(paths)}",
+                                 Span.point("<command line>"))])
+    if paths[0].suffix.lower() in (".pddl", ".ppddl"):
+        return import_ppddl(*paths)
+    return compile(*paths)
+
+
+def ground(model: Model):
+    from stampc.ir.ground import ground as _ground
+    return _ground(model)
+
+
+def solve(ground_model, options=None, **kwargs):
+    from stampc.solvers import SolverOptions, solve as _solve
+    return _solve(ground_model, options or SolverOptions(), **kwargs)
+
+
+def to_ppddl(model: Model) -> tuple[str, str]:
+    """PPDDL (domain, problem) text. Generated (continuous) parameters stay parameters;
+    grounding supplies their Skolem symbols and the certified facts that bind them."""
+    from stampc.backends.ppddl.emitter import emit_ppddl
+    from stampc.ir.lifted import Atom, Const, Object
+
+    gm = ground(model)
+    known = {o.name for o in model.problem.objects} | {c.name for c in model.domain.constants}
+    symbols = tuple(Object(n, t, symbolic=True) for n, t in gm.objects if n not in known)
+    certified = {a.predicate for g in model.domain.generators for a in g.certifies}
+    facts = tuple(Atom(f.predicate, tuple(Const(a) for a in f.args))
+                  for f in gm.static_facts if f.predicate in certified)
+    return emit_ppddl(model, extra_objects=symbols, extra_init=facts)
+
+
+def refine(files: Sequence[str | Path], *, world: str = "plane2d", options=None,
+           on_event: Callable | None = None, scene_overrides: Mapping[str, Any] | None = None,
+           verbose: bool = False):
+    """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``."""
+    from stampc.refine import RefineOptions, run_refinement
+    from stampc.worlds.bindings import resolve_model
+    from stampc.worlds.loading import load_scene, open_world
+
+    options = options or RefineOptions()
+    paths = _paths(files)
+    model = load_model(paths)
+    gm = ground(model)
+    scene = load_scene(model.problem, paths[-1].parent, scene_overrides)
+    w = open_world(world, scene, seed=options.seed, verbose=verbose)
+    try:
+        bindings = resolve_model(model, w.package)
+        meta = {"domain": model.domain.name, "problem": model.problem.name, "world": world,
+                "files": [str(p) for p in paths], "scene": scene}
+        return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta)
+    finally:
+        w.close()

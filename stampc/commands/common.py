@@ -1,0 +1,39 @@
+"""Small helpers shared by the CLI subcommands."""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import sys
+
+from stampc.diagnostics import SourceCache, StampcError, render_human, sort_key, summary_line
+
+
+def add_input_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("files", nargs="+", metavar="FILE",
+                        help="DOMAIN [PROBLEM] (.stamp), or one .pddl file (domain.pddl beside it "
+                             "for problem-only files), or domain.pddl problem.pddl")
+
+
+def fail_with(exc: StampcError) -> int:
+    """Print an error's diagnostics the way `stampc check` does; exit code 1."""
+    sources = SourceCache()
+    diags = sorted(exc.diagnostics, key=sort_key)
+    for d in diags:
+        print(render_human(d, sources), file=sys.stderr)
+    print(summary_line(diags), file=sys.stderr)
+    return 1
+
+
+def parse_scene_args(pairs: list[str]) -> dict[str, object]:
+    """``key=value`` pairs; values are Python literals when they parse as one."""
+    out: dict[str, object] = {}
+    for pair in pairs:
+        key, sep, raw = pair.partition("=")
+        if not sep or not key.isidentifier():
+            raise ValueError(f"expected KEY=VALUE, got {pair!r}")
+        try:
+            out[key] = ast.literal_eval(raw)
+        except (ValueError, SyntaxError):
+            out[key] = raw
+    return out

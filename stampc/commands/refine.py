@@ -1,0 +1,114 @@
+"""``stampc refine``: anytime refinement of a domain/problem in a concrete world."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from stampc.commands.common import add_input_arguments, fail_with, parse_scene_args
+from stampc.diagnostics import StampcError
+
+HELP = "refine an abstract policy with concrete motions (ATM-MDP), anytime"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_input_arguments(parser)
+    parser.add_argument("--world", default="plane2d", choices=("plane2d", "pybullet"),
+                        help="concrete world backend (default: plane2d)")
+    parser.add_argument("--time-limit", type=float, default=60.0, metavar="S",
+                        help="stop after S seconds (default 60)")
+    parser.add_argument("--target-coverage", type=float, default=1.0, metavar="P",
+                        help="stop once this probability mass is refined (default 1.0)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--horizon", type=int, default=None, help="initial horizon")
+    parser.add_argument("--update-probability", type=float, default=0.5,
+                        help="probability of UpdateAbstraction mode (default 0.5)")
+    parser.add_argument("--explore-probability", type=float, default=0.05,
+                        help="probability of the explore step (default 0.05)")
+    parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
+                        help="override a scene-builder argument (repeatable)")
+    parser.add_argument("-o", "--output", metavar="DIR", help="write policy.json, coverage.csv, "
+                        "coverage.png, policy.dot, policy.svg, summary.json here")
+    parser.add_argument("--quiet", action="store_true", help="no progress display")
+    parser.add_argument("--verbose", action="store_true", help="let simulators print")
+
+
+def run(args: argparse.Namespace) -> int:
+    from stampc import api
+    from stampc.refine import RefineOptions
+    from stampc.solvers import SolverOptions
+
+    for name, value in (("--target-coverage", args.target_coverage),
+                        ("--update-probability", args.update_probability),
+                        ("--explore-probability", args.explore_probability)):
+        if not 0.0 <= value <= 1.0:
+            print(f"stampc refine: {name} must be within [0, 1], got {value}", file=sys.stderr)
+            return 2
+    try:
+        overrides = parse_scene_args(args.scene_arg)
+    except ValueError as exc:
+        print(f"stampc refine: {exc}", file=sys.stderr)
+        return 2
+    options = RefineOptions(
+        seed=args.seed, time_limit=args.time_limit, target_coverage=args.target_coverage,
+        update_probability=args.update_probability,
+        explore_probability=args.explore_probability, horizon=args.horizon,
+        solver=SolverOptions(heuristic="hmax", seed=args.seed))
+    try:
+        with _progress(args.quiet) as on_event:
+            run_ = api.refine(args.files, world=args.world, options=options, on_event=on_event,
+                              scene_overrides=overrides, verbose=args.verbose)
+    except StampcError as exc:
+        return fail_with(exc)
+    except FileNotFoundError as exc:
+        print(f"stampc refine: {exc}", file=sys.stderr)
+        return 2
+    result = run_.result
+    print(f"coverage {result.coverage:.4f}  goal probability {result.goal_probability:.4f}  "
+          f"time {result.wall_time_s:.2f}s  PRG nodes {result.prg_nodes}  "
+          f"abstract solves {result.abstract_solves}  ({result.stop_reason})")
+    if args.output:
+        run_.write(Path(args.output))
+        print(f"wrote {args.output}/policy.json, coverage.csv, coverage.png, policy.dot, "
+              "policy.svg, summary.json")
+    return 0 if result.coverage >= args.target_coverage - 1e-9 else 1
+
+
+class _progress:
+    """A live coverage bar (rich) on terminals; milestone lines otherwise."""
+
+    def __init__(self, quiet: bool):
+        self.quiet = quiet
+        self.progress = None
+        self.task = None
+        self.last_decile = -1
+
+    def __enter__(self):
+        if self.quiet:
+            return None
+        if sys.stderr.isatty():
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+            self.progress = Progress(
+                TextColumn("coverage"), BarColumn(), TextColumn("{task.percentage:>5.1f}%"),
+                TextColumn("goal {task.fields[goal]:.3f}  refined {task.fields[refined]}  "
+                           "PRG {task.fields[prg]}"), TimeElapsedColumn(), transient=False)
+            self.progress.start()
+            self.task = self.progress.add_task("refine", total=1.0, goal=0.0, refined=0, prg=1)
+        return self.on_event
+
+    def on_event(self, event) -> None:
+        if self.progress is not None:
+            self.progress.update(self.task, completed=event.coverage, goal=event.goal_probability,
+                                 refined=event.refined_nodes, prg=event.prg_nodes)
+            return
+        decile = int(event.coverage * 10 + 1e-9)
+        if decile > self.last_decile or event.kind == "done":
+            self.last_decile = decile
+            print(f"[{event.time_s:8.2f}s] coverage {event.coverage:.3f}  goal "
+                  f"{event.goal_probability:.3f}  refined {event.refined_nodes}  "
+                  f"PRG {event.prg_nodes}  {event.kind}", file=sys.stderr)
+
+    def __exit__(self, *exc) -> None:
+        if self.progress is not None:
+            self.progress.stop()

@@ -1,0 +1,217 @@
+"""Concretization of one abstract action: backtracking search over generator samples,
+checking the concrete preconditions (the ``?`` literals) with the world's evaluators, and
+applying the action's concrete effect per outcome.
+
+Only preconditions on *unknowable* (``?``) predicates need a concrete check: certified
+facts hold by construction of the generators, and the other fluents are tracked exactly
+by the abstract state.
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+from typing import Any, Iterator, Mapping
+
+from stampc.diagnostics import Span, StampcError, error
+from stampc.ir.grounded import GroundAction, GroundModel, Successor, bits
+from stampc.worlds.base import ConcreteAction, Context
+from stampc.worlds.bindings import ResolvedBindings
+
+DEFAULT_BUDGET = 4
+
+
+@dataclass(frozen=True)
+class Success:
+    sigma: Mapping[str, Any]
+
+
+@dataclass(frozen=True)
+class Failure:
+    """No sample satisfied the action's concrete preconditions.
+
+    ``violated`` holds the true values of the violated ``?`` literals for the best
+    sample (fewest violations): what UpdateAbstraction writes back. It is empty when the
+    generators themselves produced nothing usable.
+    """
+
+    violated: tuple[tuple[int, bool], ...]
+    sigma: Mapping[str, Any]
+    samples: int
+
+
+class Concretizer:
+    """Runs generators, evaluators and executors for ground actions of one model."""
+
+    def __init__(self, model: GroundModel, bindings: ResolvedBindings, world: Any, seed: int):
+        self.model = model
+        self.bindings = bindings
+        self.world = world
+        self.seed = seed
+        domain = model.lifted.domain
+        self._generators = {g.name: g for g in domain.generators}
+        self._checks: dict[int, tuple[tuple[int, bool], ...]] = {}
+        self._unknowable = {p.name for p in domain.predicates if p.unknowable}
+        continuous = {t.name for t in domain.types if t.continuous}
+        self._symbols = frozenset(n for n, t in model.objects if t in continuous)
+        self.samples_drawn = 0
+        self.evaluations = 0
+
+    # ----------------------------------------------------------- precondition
+    def checks(self, action: GroundAction) -> tuple[tuple[int, bool], ...]:
+        """(fact, required value) for the ``?`` literals of the action's precondition."""
+        if action.index not in self._checks:
+            pre = action.precondition
+            out = [(bit, value) for value, mask in ((True, pre.pos), (False, pre.neg))
+                   for bit in bits(mask) if self.model.facts[bit].predicate in self._unknowable]
+            self._checks[action.index] = tuple(sorted(out))
+        return self._checks[action.index]
+
+    def _evaluate(self, ctx: Context, fact: int, values: Mapping[str, Any]) -> bool | None:
+        atom = self.model.facts[fact]
+        fn = self.bindings.evaluators.get(atom.predicate)
+        if fn is None or any(a not in values and a in self._symbols for a in atom.args):
+            return None  # cannot be decided here: keep the abstraction's assumption
+        args = tuple(values.get(a, a) for a in atom.args)
+        try:
+            result = fn(ctx, *args)
+        except Exception as exc:  # user code: report where it is bound
+            raise self._user_error("R202", f"evaluator of {atom.predicate!r} raised "
+                                   f"{type(exc).__name__}: {exc} (on {atom})",
+                                   atom.predicate) from None
+        if not isinstance(result, bool):
+            raise self._user_error("R203", f"evaluator of {atom.predicate!r} returned "
+                                   f"{type(result).__name__}, expected bool", atom.predicate)
+        self.evaluations += 1
+        return result
+
+    def violations(self, ctx: Context, action: GroundAction,
+                   values: Mapping[str, Any]) -> list[tuple[int, bool]]:
+        out = []
+        for fact, required in self.checks(action):
+            actual = self._evaluate(ctx, fact, values)
+            if actual is not None and actual != required:
+                out.append((fact, actual))
+        return out
+
+    # ------------------------------------------------------------- search
+    def concretize(self, action: GroundAction, concrete_snapshot: Any, cache: dict,
+                   values: Mapping[str, Any], *, node_uid: int, attempt: int,
+                   quick: bool) -> Success | Failure:
+        """Search generator samples for a concretization satisfying the ``?`` checks.
+
+        ``quick`` takes the first complete sample (UpdateAbstraction mode); otherwise the
+        search backtracks through every generator's budget (Concretization mode).
+        """
+        best: Failure | None = None
+        samples = 0
+        for sigma in self._assignments(action, concrete_snapshot, cache, values,
+                                       node_uid, attempt, 0, {}):
+            samples += 1
+            self.world.restore(concrete_snapshot)
+            ctx = self._context(cache, {**values, **sigma}, node_uid, attempt, -1)
+            violated = self.violations(ctx, action, {**values, **sigma})
+            if not violated:
+                return Success(dict(sigma))
+            if best is None or len(violated) < len(best.violated):
+                best = Failure(tuple(violated), dict(sigma), samples)
+            if quick:
+                break
+        if best is None:
+            return Failure((), {}, samples)
+        return Failure(best.violated, best.sigma, samples)
+
+    def _assignments(self, action: GroundAction, snapshot: Any, cache: dict,
+                     values: Mapping[str, Any], uid: int, attempt: int, i: int,
+                     sigma: dict[str, Any]) -> Iterator[dict[str, Any]]:
+        """Depth-first enumeration of generator outputs for ``action.generated[i:]``."""
+        if i == len(action.generated):
+            yield dict(sigma)
+            return
+        use = action.generated[i]
+        gen = self._generators[use.generator]
+        options = dict(gen.options)
+        budget = int(options.get("budget", DEFAULT_BUDGET))
+        env = {**values, **sigma}
+        inputs = tuple(env.get(name, name) for name in use.inputs)
+        ctx = self._context(cache, env, uid, attempt, i, options)
+        self.world.restore(snapshot)
+        try:
+            stream = iter(self.bindings.generators[use.generator](ctx, *inputs))
+        except Exception as exc:
+            raise self._gen_error(gen, exc) from None
+        for _ in range(budget):
+            self.world.restore(snapshot)  # earlier branches may have moved the world
+            try:
+                sample = next(stream, None)
+            except Exception as exc:
+                raise self._gen_error(gen, exc) from None
+            if sample is None:
+                return
+            self.samples_drawn += 1
+            sample = tuple(sample) if isinstance(sample, (tuple, list)) else (sample,)
+            if len(sample) != len(use.outputs):
+                raise self._user_error("R204", f"generator {gen.name!r} yielded {len(sample)} "
+                                       f"values, expected {len(use.outputs)}", gen_name=gen.name)
+            sigma.update(zip(use.outputs, sample))
+            yield from self._assignments(action, snapshot, cache, values, uid, attempt,
+                                         i + 1, sigma)
+            for name in use.outputs:
+                sigma.pop(name, None)
+
+    def _context(self, cache: dict, values: Mapping[str, Any], uid: int, attempt: int,
+                 index: int, options: Mapping[str, Any] | None = None) -> Context:
+        rng = random.Random(f"{self.seed}:{uid}:{attempt}:{index}")
+        return Context(world=self.world, rng=rng, options=dict(options or {}),
+                       cache=cache, values=values)
+
+    # ------------------------------------------------------------ execution
+    def execute(self, action: GroundAction, successor: Successor, outcome: int,
+                snapshot: Any, cache: dict, values: Mapping[str, Any], uid: int) -> Any:
+        """Apply the concrete effect of ``action``'s ``outcome``; return the new snapshot."""
+        self.world.restore(snapshot)
+        fn = self.bindings.executors.get(action.name)
+        if fn is None:
+            return snapshot  # a purely abstract action (e.g. notify) leaves the world as is
+        concrete = self.concrete_action(action, successor, outcome, values)
+        ctx = self._context(cache, values, uid, 0, 1000 + outcome)
+        try:
+            fn(ctx, concrete)
+        except Exception as exc:
+            raise self._user_error("R205", f"executor of {action.name!r} raised "
+                                   f"{type(exc).__name__}: {exc}", action_name=action.name) from None
+        return self.world.snapshot()
+
+    def concrete_action(self, action: GroundAction, successor: Successor, outcome: int,
+                        values: Mapping[str, Any]) -> ConcreteAction:
+        schema = self.model.lifted.domain.actions[action.schema]
+        args = {p.name: values.get(a, a) for p, a in zip(schema.params, action.args)}
+        return ConcreteAction(
+            name=action.name, args=args,
+            adds=self._literals(successor.add, values),
+            deletes=self._literals(successor.delete & ~successor.add, values),
+            outcome=outcome)
+
+    def _literals(self, mask: int, values: Mapping[str, Any]):
+        facts = self.model.facts
+        return tuple((facts[b].predicate, tuple(values.get(a, a) for a in facts[b].args))
+                     for b in bits(mask))
+
+    # --------------------------------------------------------------- errors
+    def _gen_error(self, gen, exc: Exception) -> StampcError:
+        return self._user_error("R201", f"generator {gen.name!r} raised "
+                                f"{type(exc).__name__}: {exc}", gen_name=gen.name)
+
+    def _user_error(self, code: str, message: str, predicate: str | None = None, *,
+                    gen_name: str | None = None, action_name: str | None = None) -> StampcError:
+        domain = self.model.lifted.domain
+        span = None
+        if gen_name:
+            span = next((g.binding.span or g.span for g in domain.generators if g.name == gen_name), None)
+        elif predicate:
+            span = next((e.binding.span or e.span for e in domain.evaluators if e.predicate == predicate), None)
+        elif action_name:
+            span = next((a.executes.span if a.executes else a.span
+                         for a in domain.actions if a.name == action_name), None)
+        return StampcError([error(code, message, span or Span.point("<model>"),
+                                  hint="this is raised by bound Python code; fix the function")])

@@ -1,0 +1,295 @@
+"""ATM-MDP (Alg. 1 of Shah et al.): anytime refinement of an abstract SSP policy.
+
+The plan refinement graph (PRG, a networkx DiGraph) holds one policy graph per node.
+Each iteration takes the current PRG node, selects the uncovered root-to-leaf path with
+the best p/ĉ, and works on its first unrefined action:
+
+- *Concretization*: a backtracking search over generator samples until the action's
+  concrete ``?`` preconditions hold; on success the action is refined in place and its
+  outcomes are executed in the world to give the children their concrete states;
+- *UpdateAbstraction*: when no sample works, the true values of the violated ``?``
+  literals are written into the abstract state at that node, the policy below it is
+  discarded and the SSP is re-solved from there (a new PRG child). Refined ancestors are
+  never changed — a failure below a refined prefix always replans below it.
+
+Mode choice, the explore step and iterative-broadening DFS follow the paper; horizon
+leaves are extended (dynamic horizon growth) when they are selected.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+import time
+from dataclasses import replace
+from typing import Any, Iterator
+
+import networkx as nx
+
+from stampc.ir.grounded import GroundModel
+from stampc.refine.concretize import Concretizer, Failure, Success
+from stampc.refine.graph import (HORIZON, Concrete, Node, PolicyGraph, abstract_goal_probability,
+                                 coverage, goal_probability, iter_leaf_paths, path_is_covered,
+                                 path_values, select_path)
+from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
+from stampc.refine.planner import AbstractPlanner
+from stampc.worlds.bindings import ResolvedBindings
+
+THRESHOLDS = (0.5, 0.8, 0.9, 1.0)
+
+
+class Engine:
+    def __init__(self, model: GroundModel, world: Any, bindings: ResolvedBindings,
+                 options: RefineOptions = RefineOptions()):
+        self.model = model
+        self.world = world
+        self.options = options
+        self.rng = random.Random(options.seed)
+        self.uids = itertools.count()
+        self.planner = AbstractPlanner(model, options.solver, self.uids)
+        self.concretizer = Concretizer(model, bindings, world, options.seed)
+        self.initial_values = dict(world.initial_values())
+        self.prg = nx.DiGraph()
+        self.current = 0
+        self.breadth = options.breadth
+        self.horizon = options.horizon or model.horizon or 8
+        self.best_graph: PolicyGraph | None = None
+        self.best_prg = 0
+        self.best = (-1.0, -1.0)
+        self.events: list[ProgressEvent] = []
+        self.crossed: dict[str, float | None] = {str(t): None for t in THRESHOLDS}
+        self.stop_reason = "running"
+        self._start = time.perf_counter()
+
+    # ------------------------------------------------------------- driving
+    def run(self) -> Iterator[ProgressEvent]:
+        """Anytime loop: yields a progress event per iteration until a stop condition."""
+        self._start = time.perf_counter()
+        if not self._initialise():
+            self.stop_reason = "abstract goal unreachable"
+            yield self._event("done", self.stop_reason)
+            return
+        yield self._event("start")
+        opts = self.options
+        for _ in range(opts.max_iterations):
+            if self.best[0] >= opts.target_coverage - 1e-12:
+                self.stop_reason = "target coverage reached"
+                break
+            if opts.time_limit is not None and self.elapsed() >= opts.time_limit:
+                self.stop_reason = "time limit"
+                break
+            kind, detail = self.step()
+            if kind == "exhausted":
+                self.stop_reason = detail
+                break
+            yield self._event(kind, detail)
+        else:
+            self.stop_reason = "iteration limit"
+        yield self._event("done", self.stop_reason)
+
+    def result(self) -> RefineResult:
+        graph = self.best_graph
+        cov = coverage(graph) if graph else 0.0
+        refined_paths = sum(1 for _, p in iter_leaf_paths(graph) if path_is_covered(graph, p)) if graph else 0
+        return RefineResult(
+            coverage=cov,
+            goal_probability=goal_probability(graph) if graph else 0.0,
+            abstract_goal_probability=abstract_goal_probability(graph) if graph else 0.0,
+            wall_time_s=self.elapsed(),
+            time_to_coverage=dict(self.crossed),
+            prg_nodes=self.prg.number_of_nodes(),
+            refined_paths=refined_paths,
+            refined_nodes=sum(1 for n in graph.nodes.values() if n.refined) if graph else 0,
+            abstract_solves=self.planner.solves,
+            seed=self.options.seed,
+            stop_reason=self.stop_reason if self.stop_reason != "running" else "interrupted",
+            events=tuple(self.events))
+
+    def elapsed(self) -> float:
+        return time.perf_counter() - self._start
+
+    # ---------------------------------------------------------- initialise
+    def _initialise(self) -> bool:
+        """Solve at the root, growing the horizon until the goal has probability > 0."""
+        snapshot = self.world.snapshot()
+        while True:
+            graph = PolicyGraph(-1, {})
+            root = self.planner.graft(graph, self.model.init, 0, self.horizon)
+            graph.root = root
+            key = self.world.fingerprint(snapshot) if hasattr(self.world, "fingerprint") else None
+            graph.nodes[root].concrete = Concrete(snapshot, key)
+            if abstract_goal_probability(graph) > 0 or self.horizon >= self.options.max_horizon:
+                break
+            self.horizon = min(2 * self.horizon, self.options.max_horizon)
+        self.prg.add_node(0, graph=graph, parent=None, failed=False)
+        self._track(0, graph)
+        return abstract_goal_probability(graph) > 0
+
+    # ----------------------------------------------------------------- step
+    def step(self) -> tuple[str, str]:
+        graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
+        selected = select_path(graph, self._node_cost)
+        if selected is None:
+            return "exhausted", "no uncovered path can be refined"
+        _, _, path = selected
+        for i, uid in enumerate(path):
+            node = graph[uid]
+            if node.is_leaf:
+                if node.leaf == HORIZON:
+                    return self._extend(graph, node)
+                break
+            if not node.refined:
+                return self._refine(graph, path[: i + 1])
+        return "exhausted", "selected path has nothing to refine"
+
+    def _node_cost(self, node: Node) -> float:
+        """ĉ: estimated refinement cost of one node (0 once refined)."""
+        if node.is_leaf:
+            return float(self.horizon) if node.leaf == HORIZON else 0.0
+        if node.refined:
+            return 0.0
+        action = self.model.actions[node.action]
+        gens = {g.name: g for g in self.model.lifted.domain.generators}
+        size = sum(int(dict(gens[u.generator].options).get("budget", 4)) for u in action.generated)
+        return 1.0 + size
+
+    def _extend(self, graph: PolicyGraph, leaf: Node) -> tuple[str, str]:
+        """Dynamic horizon growth: replace a horizon leaf by a freshly planned subtree."""
+        sub = self.planner.graft(graph, leaf.state, leaf.depth, leaf.depth + self.horizon)
+        self._adopt(graph, leaf, graph[sub])
+        self._track(self.current, graph)
+        return "extend", f"node {leaf.uid} at depth {leaf.depth}"
+
+    def _refine(self, graph: PolicyGraph, path: tuple[int, ...]) -> tuple[str, str]:
+        node = graph[path[-1]]
+        action = self.model.actions[node.action]
+        values = path_values(graph, path[:-1], self.initial_values)
+        quick = self.rng.random() < self.options.update_probability
+        result = self.concretizer.concretize(
+            action, node.concrete.snapshot, node.concrete.cache, values,
+            node_uid=node.uid, attempt=node.attempts, quick=quick)
+        if isinstance(result, Success):
+            self._commit(graph, node, result.sigma, values)
+            self._track(self.current, graph)
+            return "refined", action.label
+        return self._on_failure(graph, node, result)
+
+    def _commit(self, graph: PolicyGraph, node: Node, sigma, values) -> None:
+        """Refine ``node`` with ``sigma``; execute each outcome to get child states."""
+        node.sigma = sigma
+        action = self.model.actions[node.action]
+        env = {**values, **sigma}
+        merge = getattr(self.world, "fingerprint", None)
+        for k, edge in enumerate(node.edges):
+            snap = self.concretizer.execute(action, edge.successor, edge.outcome,
+                                            node.concrete.snapshot, node.concrete.cache,
+                                            env, node.uid)
+            key = merge(snap) if merge else None
+            target = self._merge_target(graph, graph[edge.child].state, key)
+            if target is None:
+                target = self._claim(graph, edge.child, snap, key)
+            if target != edge.child:
+                node.edges[k] = replace(edge, child=target)
+        graph.prune()
+
+    def _claim(self, graph: PolicyGraph, uid: int, snap: Any, key: Any) -> int:
+        """Give node ``uid`` the concrete state ``snap``; if another parent already gave
+        it a different one, split off a copy (copy-on-write of shared subtrees)."""
+        child = graph[uid]
+        if child.concrete is None:
+            child.concrete = Concrete(snap, key)
+            return uid
+        clone = replace(child, uid=next(self.uids), edges=list(child.edges),
+                        concrete=Concrete(snap, key), sigma=None)
+        graph.nodes[clone.uid] = clone
+        return clone.uid
+
+    @staticmethod
+    def _merge_target(graph: PolicyGraph, state: int, key: Any) -> int | None:
+        """A node with the same abstract and concrete state whose policy can be shared."""
+        if key is None:
+            return None
+        for other in graph.nodes.values():
+            if other.state == state and other.concrete is not None and other.concrete.key == key:
+                return other.uid
+        return None
+
+    def _on_failure(self, graph: PolicyGraph, node: Node, failure: Failure) -> tuple[str, str]:
+        if failure.violated:
+            return self._update(graph, node, failure.violated, "update")
+        node.attempts += 1
+        if node.attempts < self.options.max_attempts:
+            return "retry", f"{self.model.actions[node.action].label}: no usable sample"
+        self.planner.forbidden.add((node.state, node.action))
+        return self._update(graph, node, (), "ban")
+
+    def _update(self, graph: PolicyGraph, node: Node, learned, kind: str) -> tuple[str, str]:
+        """UpdateAbstraction: write the true facts at ``node``, replan below it (new PRG node)."""
+        new_graph = graph.copy()
+        target = new_graph[node.uid]
+        state = target.state
+        for fact, value in learned:
+            state = state | (1 << fact) if value else state & ~(1 << fact)
+        forced = None
+        if self.rng.random() < self.options.explore_probability:
+            forced = self.planner.random_action(state, self.rng, exclude=node.action)
+            kind = "explore" if forced is not None else kind
+        horizon = target.depth + self.horizon
+        sub = self.planner.graft(new_graph, state, target.depth, horizon, forced_action=forced)
+        self._adopt(new_graph, target, new_graph[sub])
+        target.learned = tuple(learned)
+        new_graph.prune()
+        v = self.prg.number_of_nodes()
+        failed = abstract_goal_probability(new_graph) <= 0.0
+        facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
+        self.prg.add_node(v, graph=new_graph, parent=self.current, failed=failed)
+        self.prg.add_edge(self.current, v, node=node.uid, failed_preconditions=facts,
+                          concretization=sorted(map(str, (node.sigma or {}).keys())))
+        if failed:
+            return self._backtrack(node.uid)
+        self.current = v
+        self._track(v, new_graph)
+        return kind, ", ".join(facts) or "action banned"
+
+    def _backtrack(self, uid: int) -> tuple[str, str]:
+        """Iterative broadening: return to the deepest PRG ancestor with spare breadth."""
+        u = self.current
+        while u is not None:
+            graph = self.prg.nodes[u]["graph"]
+            if uid in graph.nodes:
+                graph[uid].attempts += 1  # next visit draws fresh samples
+            if self.prg.out_degree(u) < self.breadth:
+                self.current = u
+                return "backtrack", f"to PRG node {u}"
+            u = self.prg.nodes[u]["parent"]
+        self.breadth += self.options.breadth_step
+        self.current = 0
+        return "backtrack", f"breadth {self.breadth}"
+
+    @staticmethod
+    def _adopt(graph: PolicyGraph, target: Node, source: Node) -> None:
+        """Overwrite ``target``'s policy with ``source``'s (keeping uid and concrete state)."""
+        target.state, target.action, target.leaf = source.state, source.action, source.leaf
+        target.edges, target.sigma, target.attempts = list(source.edges), None, 0
+        del graph.nodes[source.uid]
+
+    # -------------------------------------------------------------- reporting
+    def _track(self, prg_node: int, graph: PolicyGraph) -> None:
+        score = (coverage(graph), goal_probability(graph))
+        if score > self.best:
+            self.best, self.best_graph, self.best_prg = score, graph.copy(), prg_node
+            now = self.elapsed()
+            for t in THRESHOLDS:
+                if self.crossed[str(t)] is None and score[0] >= t - 1e-9:
+                    self.crossed[str(t)] = now
+
+    def _event(self, kind: str, detail: str = "") -> ProgressEvent:
+        graph = self.best_graph
+        event = ProgressEvent(
+            time_s=self.elapsed(), coverage=max(self.best[0], 0.0),
+            goal_probability=max(self.best[1], 0.0),
+            refined_nodes=sum(1 for n in graph.nodes.values() if n.refined) if graph else 0,
+            prg_nodes=self.prg.number_of_nodes(), abstract_solves=self.planner.solves,
+            kind=kind, detail=detail)
+        self.events.append(event)
+        return event

@@ -1,0 +1,231 @@
+"""The engine's policy graph: an unrolled abstract policy annotated with refinements.
+
+It starts as the solver's policy tree. Nodes reached with the same abstract state *and*
+the same concrete world state (per the world's optional ``fingerprint``) are merged, so
+repeating sub-policies are refined once and retry loops become cycles instead of
+exponentially deep trees. A node is *refined* when ``sigma`` (the concretization of its
+action) is set; its children then know their concrete world state.
+
+Each PRG node owns one graph; :meth:`PolicyGraph.copy` is cheap (records are copied
+shallowly) so UpdateAbstraction never disturbs the policy of the PRG node it came from.
+"""
+
+from __future__ import annotations
+
+import copy
+import heapq
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterator, Mapping
+
+from stampc.ir.grounded import Successor
+
+GOAL, DEAD_END, HORIZON = "goal", "dead_end", "horizon"
+TERMINAL = (GOAL, DEAD_END)
+
+
+@dataclass(frozen=True)
+class Concrete:
+    """A concrete world snapshot plus a scratch cache that lives as long as the snapshot."""
+
+    snapshot: Any
+    #: the world's fingerprint of the snapshot (None if the world cannot merge states)
+    key: Any = None
+    cache: dict = field(default_factory=dict, compare=False, hash=False)
+
+
+@dataclass(frozen=True)
+class Edge:
+    probability: float
+    outcome: int
+    successor: Successor
+    child: int  # uid
+
+
+@dataclass
+class Node:
+    uid: int
+    state: int
+    depth: int
+    action: int | None = None
+    leaf: str | None = None
+    edges: list[Edge] = field(default_factory=list)
+    sigma: Mapping[str, Any] | None = None
+    concrete: Concrete | None = None
+    learned: tuple[tuple[int, bool], ...] = ()
+    attempts: int = 0
+
+    @property
+    def refined(self) -> bool:
+        return self.sigma is not None
+
+    @property
+    def is_leaf(self) -> bool:
+        return self.action is None
+
+
+@dataclass
+class PolicyGraph:
+    root: int
+    nodes: dict[int, Node]
+
+    def copy(self) -> "PolicyGraph":
+        return PolicyGraph(self.root, {u: _copy_node(n) for u, n in self.nodes.items()})
+
+    def __getitem__(self, uid: int) -> Node:
+        return self.nodes[uid]
+
+    def reachable(self) -> list[int]:
+        """uids reachable from the root in depth-first preorder (each once)."""
+        seen: set[int] = set()
+        order: list[int] = []
+        stack = [self.root]
+        while stack:
+            uid = stack.pop()
+            if uid in seen:
+                continue
+            seen.add(uid)
+            order.append(uid)
+            stack.extend(e.child for e in reversed(self.nodes[uid].edges))
+        return order
+
+    def prune(self) -> None:
+        """Drop nodes no longer reachable from the root."""
+        keep = set(self.reachable())
+        self.nodes = {u: n for u, n in self.nodes.items() if u in keep}
+
+    def parents(self) -> dict[int, list[int]]:
+        result: dict[int, list[int]] = {u: [] for u in self.nodes}
+        for uid in self.reachable():
+            for e in self.nodes[uid].edges:
+                result[e.child].append(uid)
+        return result
+
+
+def _copy_node(node: Node) -> Node:
+    clone = copy.copy(node)
+    clone.edges = list(node.edges)
+    return clone
+
+
+# ------------------------------------------------------------------ coverage
+def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float]) -> float:
+    """Probability, from the root, of reaching a leaf scored by ``leaf_value`` while
+    staying on refined nodes. Iterated to a fixed point so cycles (retry loops) count
+    with their true, geometric probability."""
+    order = graph.reachable()
+    value = {u: 0.0 for u in order}
+    for _ in range(10_000):
+        delta = 0.0
+        for uid in reversed(order):
+            node = graph.nodes[uid]
+            if node.is_leaf:
+                new = leaf_value(node)
+            elif not node.refined:
+                new = 0.0
+            else:
+                new = sum(e.probability * value[e.child] for e in node.edges)
+            delta = max(delta, abs(new - value[uid]))
+            value[uid] = new
+        if delta < 1e-12:
+            break
+    return min(1.0, value[graph.root])
+
+
+def coverage(graph: PolicyGraph) -> float:
+    """Probability mass of executions that stay on refined branches to a terminal leaf."""
+    return _mass(graph, lambda n: 1.0 if n.leaf in TERMINAL else 0.0)
+
+
+def goal_probability(graph: PolicyGraph) -> float:
+    """Probability of reaching the goal on refined branches only."""
+    return _mass(graph, lambda n: 1.0 if n.leaf == GOAL else 0.0)
+
+
+def abstract_goal_probability(graph: PolicyGraph) -> float:
+    """Goal probability of the abstract policy, ignoring refinement."""
+    order = graph.reachable()
+    value = {u: 0.0 for u in order}
+    for _ in range(10_000):
+        delta = 0.0
+        for uid in reversed(order):
+            node = graph.nodes[uid]
+            new = (1.0 if node.leaf == GOAL else 0.0) if node.is_leaf else sum(
+                e.probability * value[e.child] for e in node.edges)
+            delta = max(delta, abs(new - value[uid]))
+            value[uid] = new
+        if delta < 1e-12:
+            break
+    return value[graph.root]
+
+
+# ------------------------------------------------------------ path selection
+def path_is_covered(graph: PolicyGraph, path: tuple[int, ...]) -> bool:
+    leaf = graph.nodes[path[-1]]
+    return leaf.leaf in TERMINAL and all(graph.nodes[u].refined for u in path[:-1])
+
+
+def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
+                max_pops: int = 200_000) -> tuple[float, float, tuple[int, ...]] | None:
+    """The uncovered root-to-leaf path with the largest p / ĉ (greedy knapsack, Thm. 1).
+
+    p is the path probability; ĉ the summed estimated refinement cost of the path's
+    unrefined nodes (``node_cost``; refined nodes cost 0). Best-first branch and bound:
+    a prefix with probability p and cost c bounds every completion by p / max(c, 1),
+    since an uncovered path costs at least one unit. Cycles are cut (a path never
+    revisits a node). Returns (p, ĉ, path) or None when everything is covered.
+    """
+    counter = 0
+    heap: list[tuple[float, int, float, float, tuple[int, ...]]] = []
+    root = graph.nodes[graph.root]
+    c0 = node_cost(root)
+    heapq.heappush(heap, (-1.0 / max(c0, 1.0), counter, 1.0, c0, (graph.root,)))
+    best: tuple[float, float, tuple[int, ...]] | None = None
+    best_ratio = 0.0
+    pops = 0
+    while heap and pops < max_pops:
+        neg_bound, _, prob, cost, path = heapq.heappop(heap)
+        pops += 1
+        if -neg_bound <= best_ratio:
+            break
+        node = graph.nodes[path[-1]]
+        if node.is_leaf:
+            if not path_is_covered(graph, path) and cost > 0:
+                ratio = prob / cost
+                if ratio > best_ratio:
+                    best, best_ratio = (prob, cost, path), ratio
+            continue
+        for e in node.edges:
+            if e.child in path or e.probability <= 0.0:
+                continue
+            child = graph.nodes[e.child]
+            p2, c2 = prob * e.probability, cost + node_cost(child)
+            counter += 1
+            heapq.heappush(heap, (-p2 / max(c2, 1.0), counter, p2, c2, path + (e.child,)))
+    return best
+
+
+def iter_leaf_paths(graph: PolicyGraph, limit: int = 100_000) -> Iterator[tuple[float, tuple[int, ...]]]:
+    """Acyclic root-to-leaf paths with probabilities (for tests and small graphs)."""
+    stack: list[tuple[float, tuple[int, ...]]] = [(1.0, (graph.root,))]
+    produced = 0
+    while stack and produced < limit:
+        prob, path = stack.pop()
+        node = graph.nodes[path[-1]]
+        if node.is_leaf:
+            produced += 1
+            yield prob, path
+            continue
+        for e in reversed(node.edges):
+            if e.child not in path:
+                stack.append((prob * e.probability, path + (e.child,)))
+
+
+def path_values(graph: PolicyGraph, path: tuple[int, ...],
+                initial: Mapping[str, Any]) -> dict[str, Any]:
+    """Concrete values of the symbols bound along ``path`` (the nearest binding wins)."""
+    values = dict(initial)
+    for uid in path:
+        sigma = graph.nodes[uid].sigma
+        if sigma:
+            values.update(sigma)
+    return values

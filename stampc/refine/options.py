@@ -1,0 +1,61 @@
+"""Public types of the refinement engine: options, progress events, results."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from stampc.diagnostics import Diagnostic
+from stampc.solvers import SolverOptions
+
+
+@dataclass(frozen=True)
+class RefineOptions:
+    seed: int = 0
+    time_limit: float | None = 60.0
+    target_coverage: float = 1.0
+    #: probability of choosing UpdateAbstraction (quick sample, learn, replan) over a full
+    #: backtracking Concretization search when refining a node (Alg. 1, line 6)
+    update_probability: float = 0.5
+    #: probability of the explore step (replace the replanned action by a random one);
+    #: non-zero keeps the search probabilistically complete (Thm. 2)
+    explore_probability: float = 0.05
+    #: initial horizon; None: the problem's horizon, else grown from 8 until the goal
+    #: has probability > 0
+    horizon: int | None = None
+    max_horizon: int = 512
+    #: refinement attempts at one node before the action is banned there and replanned
+    max_attempts: int = 3
+    #: iterative-broadening DFS over the PRG: initial breadth and its increment
+    breadth: int = 5
+    breadth_step: int = 5
+    max_iterations: int = 100_000
+    solver: SolverOptions = field(default_factory=lambda: SolverOptions(heuristic="hmax"))
+
+
+@dataclass(frozen=True)
+class ProgressEvent:
+    time_s: float
+    coverage: float
+    goal_probability: float
+    refined_nodes: int
+    prg_nodes: int
+    abstract_solves: int
+    kind: str  # "start" | "refined" | "update" | "explore" | "extend" | "backtrack" | "done"
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class RefineResult:
+    coverage: float
+    goal_probability: float
+    abstract_goal_probability: float
+    wall_time_s: float
+    time_to_coverage: dict[str, float | None]
+    prg_nodes: int
+    refined_paths: int
+    refined_nodes: int
+    abstract_solves: int
+    seed: int
+    stop_reason: str
+    events: tuple[ProgressEvent, ...]
+    diagnostics: tuple[Diagnostic, ...] = ()

@@ -1,0 +1,108 @@
+"""Abstract (re)planning for the engine: solve the SSP from a state with the built-in
+solver and graft the unrolled policy into a policy graph.
+
+Re-solving happens after every UpdateAbstraction, from a state that differs from the
+previous one only in learned facts, on the *same* grounded model, so the previous
+solution's values are reused (``warm``).
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import replace
+from typing import Iterator
+
+from stampc.ir.grounded import GroundModel
+from stampc.refine.graph import DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph
+from stampc.solvers import Solution, SolverOptions, policy_tree, solve
+
+
+class AbstractPlanner:
+    def __init__(self, model: GroundModel, options: SolverOptions, uids: Iterator[int]):
+        self.model = model
+        self.options = options
+        self.uids = uids
+        self.solves = 0
+        self.solve_time_s = 0.0
+        self._last: Solution | None = None
+        self.forbidden: set[tuple[int, int]] = set()
+
+    def solve_from(self, state: int) -> Solution:
+        opts = replace(self.options, forbidden=frozenset(self.forbidden)) if self.forbidden else self.options
+        warm = self._last if (self._last is not None and not self.forbidden) else None
+        solution = solve(self.model, opts, init=state, warm=warm)
+        self.solves += 1
+        self.solve_time_s += solution.solve_time_s
+        if not self.forbidden:
+            self._last = solution
+        return solution
+
+    def graft(self, graph: PolicyGraph, state: int, depth: int, horizon: int,
+              forced_action: int | None = None) -> int:
+        """Solve from ``state`` and add the policy unrolled to ``horizon`` to ``graph``;
+        returns the uid of the new subtree's root. ``forced_action`` (explore step) makes
+        the root take that action and plans from each of its outcomes."""
+        if forced_action is not None:
+            return self._graft_forced(graph, state, depth, horizon, forced_action)
+        solution = self.solve_from(state)
+        remaining = max(0, horizon - depth)
+        tree = policy_tree(self.model, solution, init=state, depth=remaining)
+        return self._add_tree(graph, tree, depth)
+
+    def _graft_forced(self, graph: PolicyGraph, state: int, depth: int, horizon: int,
+                      action: int) -> int:
+        ground = self.model.actions[action]
+        node = Node(next(self.uids), state, depth, action=action)
+        graph.nodes[node.uid] = node
+        for index, succ in enumerate(ground.outcomes(state)):
+            child_state = succ.apply(state)
+            if self.model.is_goal(child_state):
+                child = self._leaf(graph, child_state, depth + 1, GOAL)
+            elif depth + 1 >= horizon:
+                child = self._leaf(graph, child_state, depth + 1, HORIZON)
+            else:
+                child = self.graft(graph, child_state, depth + 1, horizon)
+            node.edges.append(Edge(float(succ.probability), index, succ, child))
+        return node.uid
+
+    def _leaf(self, graph: PolicyGraph, state: int, depth: int, kind: str) -> int:
+        node = Node(next(self.uids), state, depth, leaf=kind)
+        graph.nodes[node.uid] = node
+        return node.uid
+
+    def _add_tree(self, graph: PolicyGraph, tree, depth: int) -> int:
+        """Copy a solver policy tree into graph nodes, keeping its shared subtrees shared
+        (the engine splits a shared node lazily when its parents' concrete states differ)."""
+        made: dict[int, int] = {}
+        order: list = []
+        stack = [tree]
+        while stack:  # collect distinct tree nodes, parents before children
+            t = stack.pop()
+            if id(t) in made:
+                continue
+            made[id(t)] = next(self.uids)
+            order.append(t)
+            stack.extend(e.child for e in t.children)
+        for t in order:
+            node = Node(made[id(t)], t.state, depth + t.depth, action=t.action, leaf=_leaf_kind(t))
+            if t.action is not None:
+                outcomes = self.model.actions[t.action].outcomes(t.state)
+                node.edges = [Edge(e.probability, e.outcome, outcomes[e.outcome], made[id(e.child)])
+                              for e in t.children]
+            graph.nodes[node.uid] = node
+        return made[id(tree)]
+
+    def random_action(self, state: int, rng: random.Random, exclude: int | None) -> int | None:
+        """An applicable action other than ``exclude`` (the explore step of Alg. 1)."""
+        candidates = [a.index for a in self.model.actions
+                      if a.index != exclude and (state, a.index) not in self.forbidden
+                      and a.precondition.holds(state)]
+        return rng.choice(candidates) if candidates else None
+
+
+def _leaf_kind(tree) -> str | None:
+    if tree.action is not None:
+        return None
+    if tree.leaf in (GOAL, DEAD_END, HORIZON):
+        return tree.leaf
+    return DEAD_END

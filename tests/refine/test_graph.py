@@ -1,0 +1,127 @@
+"""Policy-graph bookkeeping: coverage (incl. retry cycles), p/ĉ path selection, copies."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+
+from stampc.ir.grounded import Successor
+from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph, coverage,
+                                 goal_probability, iter_leaf_paths, select_path)
+
+NOOP = Successor(Fraction(1), 0, 0, Fraction(1))
+
+
+def edge(p: float, child: int, k: int = 0) -> Edge:
+    return Edge(p, k, NOOP, child)
+
+
+def build(spec: dict[int, tuple]) -> PolicyGraph:
+    """spec: uid -> ("leaf", kind) | ("act", refined, [(p, child), ...])."""
+    nodes = {}
+    for uid, item in spec.items():
+        if item[0] == "leaf":
+            nodes[uid] = Node(uid, uid, 0, leaf=item[1])
+        else:
+            _, refined, kids = item
+            nodes[uid] = Node(uid, uid, 0, action=0, sigma={} if refined else None,
+                              edges=[edge(p, c, k) for k, (p, c) in enumerate(kids)])
+    return PolicyGraph(0, nodes)
+
+
+def test_leaf_path_probabilities_sum_to_one():
+    g = build({0: ("act", False, [(0.3, 1), (0.7, 2)]),
+               1: ("act", False, [(0.5, 3), (0.5, 4)]),
+               2: ("leaf", GOAL), 3: ("leaf", GOAL), 4: ("leaf", DEAD_END)})
+    probs = [p for p, _ in iter_leaf_paths(g)]
+    assert len(probs) == 3
+    assert sum(probs) == pytest.approx(1.0)
+
+
+def test_coverage_counts_only_refined_terminal_paths():
+    g = build({0: ("act", True, [(0.3, 1), (0.7, 2)]),
+               1: ("act", False, [(1.0, 3)]),
+               2: ("leaf", GOAL), 3: ("leaf", GOAL)})
+    assert coverage(g) == pytest.approx(0.7)
+    g[1].sigma = {}
+    assert coverage(g) == pytest.approx(1.0)
+
+
+def test_horizon_leaves_are_not_covered_and_dead_ends_are():
+    g = build({0: ("act", True, [(0.2, 1), (0.5, 2), (0.3, 3)]),
+               1: ("leaf", HORIZON), 2: ("leaf", GOAL), 3: ("leaf", DEAD_END)})
+    assert coverage(g) == pytest.approx(0.8)
+    assert goal_probability(g) == pytest.approx(0.5)
+
+
+def test_retry_cycle_counts_with_geometric_probability():
+    # 0 --0.9--> goal, --0.1--> 0 (slip: same abstract and concrete state): p(goal) = 1
+    g = build({0: ("act", True, [(0.9, 1), (0.1, 0)]), 1: ("leaf", GOAL)})
+    assert coverage(g) == pytest.approx(1.0, abs=1e-9)
+    # with a dead-end exit the cycle splits mass 0.9 : 0.05 in the limit
+    g = build({0: ("act", True, [(0.9, 1), (0.05, 0), (0.05, 2)]), 1: ("leaf", GOAL),
+               2: ("leaf", HORIZON)})
+    assert goal_probability(g) == pytest.approx(0.9 / 0.95, rel=1e-9)
+
+
+def test_select_path_prefers_probability_over_cost():
+    # two unrefined branches: 0.6 with cost 10 (ratio .06) vs 0.4 with cost 2 (ratio .2)
+    g = build({0: ("act", True, [(0.6, 1), (0.4, 2)]),
+               1: ("act", False, [(1.0, 3)]), 2: ("act", False, [(1.0, 4)]),
+               3: ("leaf", GOAL), 4: ("leaf", GOAL)})
+    cost = {1: 10.0, 2: 2.0}
+    p, c, path = select_path(g, lambda n: 0.0 if n.refined or n.is_leaf else cost[n.uid])
+    assert path == (0, 2, 4)
+    assert (p, c) == (pytest.approx(0.4), 2.0)
+    cost[2] = 20.0
+    _, _, path = select_path(g, lambda n: 0.0 if n.refined or n.is_leaf else cost[n.uid])
+    assert path == (0, 1, 3)
+
+
+def test_select_path_matches_brute_force_ratio_order():
+    import random
+    rng = random.Random(7)
+    for _ in range(50):
+        spec, frontier, uid = {}, [0], 1
+        while frontier:
+            u = frontier.pop()
+            if uid > 25 or rng.random() < 0.3:
+                spec[u] = ("leaf", rng.choice([GOAL, DEAD_END, HORIZON]))
+                continue
+            k = rng.randint(1, 3)
+            ws = [rng.random() + 0.01 for _ in range(k)]
+            kids = [(w / sum(ws), uid + i) for i, w in enumerate(ws)]
+            spec[u] = ("act", rng.random() < 0.5, kids)
+            frontier.extend(uid + i for i in range(k))
+            uid += k
+        g = build(spec)
+        cost = {n: rng.randint(1, 9) for n in spec}
+
+        def node_cost(n):
+            if n.is_leaf:
+                return 3.0 if n.leaf == HORIZON else 0.0
+            return 0.0 if n.refined else float(cost[n.uid])
+
+        def path_cost(path):
+            return sum(node_cost(g[u]) for u in path)
+
+        candidates = [(p / path_cost(path), path) for p, path in iter_leaf_paths(g)
+                      if not (g[path[-1]].leaf in (GOAL, DEAD_END)
+                              and all(g[u].refined for u in path[:-1])) and path_cost(path) > 0]
+        chosen = select_path(g, node_cost)
+        if not candidates:
+            assert chosen is None
+            continue
+        best = max(r for r, _ in candidates)
+        assert chosen is not None
+        assert chosen[0] / chosen[1] == pytest.approx(best)
+
+
+def test_copy_is_independent():
+    g = build({0: ("act", False, [(1.0, 1)]), 1: ("leaf", GOAL)})
+    h = g.copy()
+    h[0].sigma = {}
+    h[0].edges.append(edge(0.0, 1))
+    assert g[0].sigma is None and len(g[0].edges) == 1
+    assert coverage(g) == 0.0 and coverage(h) == pytest.approx(1.0)
