@@ -1,0 +1,277 @@
+"""Bound generators, evaluators and executors for arm manipulation.
+
+Bindings (relative to the world package): ``.manipulation:grasp``, ``:placement``,
+``:motion``, ``:collision``, ``:reachable``, ``:pick``, ``:place``, ``:discard``. Every function leaves
+the bodies at the world's current concrete state when it returns or yields.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Iterator
+
+from stampc.diagnostics import Span, StampcError, error
+from stampc.worlds.base import ConcreteAction, Context
+from stampc.worlds.pybullet.kinematics import (IkSettings, grasp_candidates, solve_ik,
+                                               top_grasp)
+from stampc.worlds.pybullet.planning import (PlanSettings, PlanStats, counts, plan_trajectory,
+                                             sweep)
+from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
+                                           as_traj, interpolate, quat_from_yaw)
+from stampc.worlds.pybullet.world import PyBulletWorld
+
+PLACE_CLEARANCE = 0.002  # m above the surface, so a placed object does not penetrate it
+PLACE_SPACING = 0.01  # m between footprints of placed and present objects
+PLACE_MARGIN = 0.02  # m between a footprint and the surface edge
+
+
+def _world(ctx: Context) -> PyBulletWorld:
+    world = ctx.world
+    if not isinstance(world, PyBulletWorld) or world.model is None:
+        raise StampcError([error("PB010", "manipulation functions need a PyBullet world "
+                                 "with a robot arm", Span.point("<world>"))])
+    return world  # type: ignore[return-value]
+
+
+def _check_object(world: PyBulletWorld, name: str) -> None:
+    if name not in world.geometry:
+        raise StampcError([error("PB011", f"unknown object {name!r}", Span.point("<world>"),
+                                 f"scene objects: {', '.join(sorted(world.geometry))}")])
+
+
+def _budget(ctx: Context) -> int:
+    value = ctx.options.get("budget")
+    return int(value) if isinstance(value, (int, float)) and value > 0 else 1_000_000
+
+
+def _static_free(world: PyBulletWorld, configs: list[tuple[float, ...]],
+                 ignore_held_support: bool = False) -> bool:
+    """Robot (and held object) clear of surfaces and of itself along ``configs``."""
+    for q in configs:
+        robot_hits, held_hits = world.hits(q)
+        if ignore_held_support:
+            held_hits = held_hits - world.static_ids
+        if (robot_hits | held_hits) - world.movable_ids:
+            return False
+    return True
+
+
+def _approach_ok(world: PyBulletWorld, pre: tuple[float, ...], q: tuple[float, ...],
+                 placing: bool = False) -> bool:
+    return _static_free(world, interpolate(pre, q, 0.02), ignore_held_support=placing)
+
+
+# ------------------------------------------------------------------ generators
+def grasp(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:
+    """Grasps of ``o`` at pose ``p`` with a reaching, statically collision-free config."""
+    world = _world(ctx)
+    _check_object(world, o)
+    p = as_pose(p)
+    kinds = str(ctx.options.get("grasps", "any"))
+    yielded, budget = 0, _budget(ctx)
+    for g in grasp_candidates(world.geometry[o], ctx.rng, kinds):
+        config = _grasp_config(world, ctx, o, p, g)
+        world.set_arm(world.state.q)
+        if config is not None:
+            yield g, config
+            yielded += 1
+            if yielded >= budget:
+                return
+
+
+def _grasp_config(world: PyBulletWorld, ctx: Context, o: str, p: Pose,
+                  g: Grasp) -> Config | None:
+    key = ("grasp-config", o, p, g)
+    if key in ctx.cache:
+        return ctx.cache[key]
+    hand = p.multiply(g.hand)
+    q = solve_ik(world, hand, ctx.rng, settings=_ik(ctx))
+    pre = solve_ik(world, g.pregrasp(p), ctx.rng, seed_q=q, settings=_ik(ctx)) if q else None
+    ok = q is not None and pre is not None and _approach_ok(world, pre, q)
+    ctx.cache[key] = Config.of(q, obj=o, pre=pre) if ok else None  # type: ignore[arg-type]
+    return ctx.cache[key]
+
+
+def _ik(ctx: Context) -> IkSettings:
+    return IkSettings(restarts=int(ctx.options.get("ik_restarts", 5)))
+
+
+def placement(ctx: Context, o: str, s: str) -> Iterator[tuple[Pose, Config]]:
+    """Poses of ``o`` on surface ``s`` and the configs that put it there.
+
+    Uses the current grip if ``o`` is held (else a top grasp). The yielded pose is where
+    the hand at the config actually puts the object (IK is within 5 mm / 0.05 rad).
+    """
+    world = _world(ctx)
+    _check_object(world, o)
+    if s not in world.surfaces:
+        raise StampcError([error("PB012", f"unknown surface {s!r}", Span.point("<world>"),
+                                 f"surfaces: {', '.join(sorted(world.surfaces))}")])
+    surface, geom = world.surfaces[s], world.geometry[o]
+    state = world.state
+    grip = state.grip if state.held == o and state.grip is not None \
+        else top_grasp(geom, 0.0).hand.inverse()
+    others = [(pose.pos, world.geometry[n].footprint) for n, pose in state.poses
+              if n != o and n != state.held and n not in state.removed]
+    half_x = surface.size[0] / 2 - geom.footprint - PLACE_MARGIN
+    half_y = surface.size[1] / 2 - geom.footprint - PLACE_MARGIN
+    if half_x < 0 or half_y < 0:
+        return
+    yielded, budget = 0, _budget(ctx)
+    for _ in range(int(ctx.options.get("samples", 50))):
+        x = surface.position[0] + ctx.rng.uniform(-half_x, half_x)
+        y = surface.position[1] + ctx.rng.uniform(-half_y, half_y)
+        if any(math.dist((x, y), pos[:2]) < geom.footprint + r + PLACE_SPACING
+               for pos, r in others):
+            continue
+        z = surface.top + geom.height / 2 + PLACE_CLEARANCE
+        target = Pose.of((x, y, z), quat_from_yaw(ctx.rng.uniform(-math.pi, math.pi)))
+        result = _place_config(world, ctx, o, target, grip)
+        world.set_arm(state.q)
+        if result is not None:
+            yield result
+            yielded += 1
+            if yielded >= budget:
+                return
+
+
+def _place_config(world: PyBulletWorld, ctx: Context, o: str, target: Pose,
+                  grip: Pose) -> tuple[Pose, Config] | None:
+    hand = target.multiply(grip.inverse())
+    q = solve_ik(world, hand, ctx.rng, settings=_ik(ctx))
+    if q is None:
+        return None
+    actual = world.ee_pose().multiply(grip)
+    above = Pose((hand.pos[0], hand.pos[1], hand.pos[2] + 0.1), hand.quat)
+    pre = solve_ik(world, above, ctx.rng, seed_q=q, settings=_ik(ctx))
+    if pre is None or not _approach_ok(world, pre, q, placing=world.state.held == o):
+        return None
+    return Pose.of(actual.pos, actual.quat), Config.of(q, obj=o, pre=pre)
+
+
+def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
+    """Trajectories from the current config to ``q``: collision-free ones first, then
+    (if the collision-free search fails) ones avoiding only static obstacles, so the
+    ``collision`` evaluator can name the movable objects in the way."""
+    world = _world(ctx)
+    q = as_config(q)
+    budget = _budget(ctx) if "budget" in ctx.options else 4
+    base = PlanSettings(planner=str(ctx.options.get("planner", "RRTConnect")),
+                        max_checks=int(ctx.options.get("max_checks", 20000)),
+                        time_limit=float(ctx.options.get("time_limit", 5.0)))
+    stats = ctx.options.get("stats")
+    stats = stats if isinstance(stats, PlanStats) else None
+    seen: set[Traj] = set()
+    for static_only in (False, True):
+        for attempt in range(budget):
+            settings = PlanSettings(base.planner, base.max_checks, base.time_limit,
+                                    static_only, straight=attempt == 0)
+            traj = plan_trajectory(world, q, ctx.rng, settings, stats)
+            world.set_arm(world.state.q)
+            if traj is None:
+                break
+            if traj not in seen:
+                seen.add(traj)
+                yield (traj,)
+        if seen:
+            return  # collision-free paths exist: no need to blame movable objects
+
+
+# ------------------------------------------------------------------ evaluators
+def blocking_objects(ctx: Context, t: Traj) -> frozenset[str]:
+    """Movable objects the trajectory (robot and held object) hits, computed once per
+    trajectory and state at fine resolution."""
+    world = _world(ctx)
+    t = as_traj(t)
+    key = ("sweep", t)
+    if key not in ctx.cache:
+        hit = sweep(world, t)
+        world.set_arm(world.state.q)
+        exclude = {t.held, t.target, t.released}
+        ctx.cache[key] = frozenset(n for n in world.names(hit & world.movable_ids)
+                                   if n not in exclude)
+    return ctx.cache[key]
+
+
+def collision(ctx: Context, x: str, t: Traj) -> bool:
+    """Does ``t`` hit object ``x`` (not counting the held and the target object)?"""
+    return x in blocking_objects(ctx, t)
+
+
+def reachable(ctx: Context, o: str, p: Pose) -> bool:
+    """Whether some grasp of ``o`` at ``p`` has an IK solution (collisions ignored)."""
+    world = _world(ctx)
+    _check_object(world, o)
+    p = as_pose(p)
+    key = ("reachable", o, p)
+    if key not in ctx.cache:
+        ok = any(solve_ik(world, p.multiply(g.hand), ctx.rng, settings=_ik(ctx)) is not None
+                 for g in grasp_candidates(world.geometry[o], ctx.rng))
+        world.set_arm(world.state.q)
+        ctx.cache[key] = ok
+    return ctx.cache[key]
+
+
+def trajectory_free(ctx: Context, t: Traj) -> bool:
+    """Whether ``t`` is collision-free against everything (fine resolution)."""
+    world = _world(ctx)
+    hit = sweep(world, as_traj(t), stop_on_hit=True)
+    world.set_arm(world.state.q)
+    return not counts(world, hit, static_only=False)
+
+
+# ------------------------------------------------------------------ executors
+def _adds(action: ConcreteAction, predicate: str, obj: str) -> bool:
+    return any(name == predicate and obj in args for name, args in action.adds)
+
+
+def _arg(action: ConcreteAction, name: str) -> object:
+    if name not in action.args:
+        raise StampcError([error("PB013", f"action '{action.name}' lacks argument '{name}'",
+                                 Span.point("<world>"))])
+    return action.args[name]
+
+
+def pick(ctx: Context, action: ConcreteAction) -> None:
+    """Move to the grasp config; attach ``o`` iff the outcome adds ``holding``."""
+    world = _world(ctx)
+    o, q = str(_arg(action, "o")), as_config(_arg(action, "q"))
+    _check_object(world, o)
+    world.update(q=q.q, retreat=None, released=None)
+    if _adds(action, "holding", o) and world.present(o):
+        grip = world.ee_pose().inverse().multiply(world.object_pose(o))
+        world.update(held=o, grip=grip, retreat=q.pre)
+    else:  # e.g. a slip: the hand backs off from the untouched object
+        world.update(retreat=q.pre, released=o)
+
+
+def place(ctx: Context, action: ConcreteAction) -> None:
+    """Move to the place config; put ``o`` at ``p`` iff the outcome adds ``at``; if it
+    only deletes ``holding(o)`` the object is let go where the hand holds it; otherwise
+    (a slip that keeps it in hand) ``o`` stays held."""
+    world = _world(ctx)
+    o, p, q = str(_arg(action, "o")), as_pose(_arg(action, "p")), as_config(_arg(action, "q"))
+    _check_object(world, o)
+    world.update(q=q.q, retreat=None, released=None)
+    if world.state.held != o:
+        world.update(retreat=q.pre)
+    elif _adds(action, "at", o):
+        world.update(held=None, grip=None, poses=world.with_object_pose(o, p),
+                     retreat=q.pre, released=o)
+    elif any(name == "holding" and o in args for name, args in action.deletes):
+        dropped = world.ee_pose().multiply(world.state.grip) if world.state.grip else p
+        world.update(held=None, grip=None, poses=world.with_object_pose(o, dropped),
+                     retreat=q.pre, released=o)
+    else:  # the object stays in the hand
+        world.update(retreat=q.pre)
+
+
+def discard(ctx: Context, action: ConcreteAction) -> None:
+    """Take ``o`` out of the scene (e.g. a crushed can thrown into a bin)."""
+    world = _world(ctx)
+    o = str(_arg(action, "o"))
+    _check_object(world, o)
+    changes: dict = {"removed": world.state.removed | {o}}
+    if world.state.held == o:
+        changes.update(held=None, grip=None)
+    world.update(**changes)

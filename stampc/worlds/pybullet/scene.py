@@ -1,0 +1,317 @@
+"""The JSON-friendly scene format and its validation.
+
+A scene is a plain dict (see ``docs/worlds-pybullet.md``)::
+
+    {"robot": {"model": "panda", "base": [0, 0, 0], "yaw": 0},
+     "surfaces": [{"name": "table", "size": [sx, sy, sz], "position": [x, y, z]}],
+     "objects": [{"name": "can0", "shape": "cylinder", "radius": 0.03, "height": 0.15,
+                  "position": [x, y, z], "yaw": 0, "mass": 0.1, "color": [r, g, b, a]},
+                 {"name": "d0", "urdf": "domino/domino.urdf", "scale": 1.0, ...}],
+     "poses": {"pose_can0": "can0"},
+     "regions": [{"name": "left_wing", "size": [...], "position": [...]}],
+     "uav": {"size": [0.3, 0.3, 0.08], "position": [...], "battery": 20.0,
+             "bounds": {"low": [...], "high": [...]}}}
+
+Positions are body-frame origins (the centre of a primitive shape). Validation turns a
+scene into frozen specs or raises :class:`StampcError` with located diagnostics (the span
+file is ``<scene SECTION>``, e.g. ``<scene objects>``; the "line" is the index of the
+offending entry, 1-based).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any, Mapping, Sequence
+
+from stampc.diagnostics import Diagnostic, Span, StampcError, error
+
+SCENE_FILE = "<scene>"
+
+
+@dataclass(frozen=True)
+class RobotModel:
+    """What the world needs to know about an arm from ``pybullet_data``."""
+
+    urdf: str
+    arm_joints: tuple[int, ...]
+    ee_link: int
+    rest: tuple[float, ...]
+    finger_joints: tuple[int, ...] = ()
+    finger_open: float = 0.0
+    #: link pairs whose contact is an artefact of the meshes (always touching)
+    ignored_self_pairs: tuple[tuple[int, int], ...] = ()
+    #: the end-effector frame's z axis is the approach direction, y the closing direction
+    self_collision: bool = True
+
+
+#: The robot-model table (read-only); add an entry to support another arm.
+ROBOT_MODELS: Mapping[str, RobotModel] = MappingProxyType({
+    "panda": RobotModel(
+        urdf="franka_panda/panda.urdf",
+        arm_joints=(0, 1, 2, 3, 4, 5, 6),
+        ee_link=11,  # panda_grasptarget: between the fingertips
+        rest=(0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785),
+        finger_joints=(9, 10),
+        finger_open=0.04,
+        ignored_self_pairs=((6, 8),),
+    ),
+    "kuka_iiwa": RobotModel(
+        urdf="kuka_iiwa/model.urdf",
+        arm_joints=(0, 1, 2, 3, 4, 5, 6),
+        ee_link=6,
+        rest=(0.0, 0.5, 0.0, -1.5, 0.0, 1.0, 0.0),
+        self_collision=False,
+    ),
+})
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    model: str
+    base: tuple[float, float, float]
+    yaw: float
+
+
+@dataclass(frozen=True)
+class BoxSpec:
+    """A fixed box (surface) or a named region (no body, used by the UAV)."""
+
+    name: str
+    size: tuple[float, float, float]
+    position: tuple[float, float, float]
+    color: tuple[float, float, float, float] = (0.6, 0.45, 0.3, 1.0)
+
+    @property
+    def top(self) -> float:
+        return self.position[2] + self.size[2] / 2.0
+
+    def contains(self, point: Sequence[float], margin: float = 0.0) -> bool:
+        return all(abs(p - c) <= s / 2.0 - margin
+                   for p, c, s in zip(point, self.position, self.size))
+
+
+@dataclass(frozen=True)
+class ObjectSpec:
+    name: str
+    shape: str  # "cylinder" | "box" | "urdf"
+    dims: tuple[float, ...]  # (radius, height) | (sx, sy, sz) | () for urdf
+    position: tuple[float, float, float]
+    yaw: float = 0.0
+    mass: float = 0.1
+    color: tuple[float, float, float, float] = (0.8, 0.2, 0.2, 1.0)
+    urdf: str | None = None
+    scale: float = 1.0
+
+
+@dataclass(frozen=True)
+class UavSpec:
+    name: str
+    size: tuple[float, float, float]
+    position: tuple[float, float, float]
+    low: tuple[float, float, float]
+    high: tuple[float, float, float]
+    battery: float
+    mass: float = 1.0
+
+
+@dataclass(frozen=True)
+class SceneSpec:
+    robot: RobotSpec | None
+    surfaces: tuple[BoxSpec, ...]
+    objects: tuple[ObjectSpec, ...]
+    poses: tuple[tuple[str, str], ...]
+    regions: tuple[BoxSpec, ...]
+    uav: UavSpec | None
+
+
+# ------------------------------------------------------------------ validation
+class _Checker:
+    """Collects diagnostics while reading fields of one scene."""
+
+    def __init__(self) -> None:
+        self.diags: list[Diagnostic] = []
+        self.section = ""
+
+    def fail(self, where: int, message: str, hint: str | None = None) -> None:
+        file = f"<scene {self.section}>" if self.section else SCENE_FILE
+        self.diags.append(error("PB001", message, Span.point(file, max(1, where)), hint))
+
+    def vec(self, entry: Mapping, key: str, n: int, where: int, default: Any = None,
+            positive: bool = False) -> tuple[float, ...] | None:
+        value = entry.get(key, default)
+        if value is None:
+            self.fail(where, f"missing '{key}' ({n} numbers)")
+            return None
+        ok = (isinstance(value, Sequence) and not isinstance(value, str) and len(value) == n
+              and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+        if not ok or (positive and any(v <= 0 for v in value)):
+            kind = "positive numbers" if positive else "numbers"
+            self.fail(where, f"'{key}' must be a list of {n} {kind}, got {value!r}")
+            return None
+        return tuple(float(v) for v in value)
+
+    def num(self, entry: Mapping, key: str, where: int, default: float | None = None,
+            positive: bool = False) -> float | None:
+        value = entry.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            self.fail(where, f"'{key}' must be a number, got {value!r}")
+            return None
+        if positive and value <= 0:
+            self.fail(where, f"'{key}' must be positive, got {value!r}")
+            return None
+        return float(value)
+
+    def name(self, entry: Mapping, where: int, seen: set[str]) -> str | None:
+        value = entry.get("name")
+        if not isinstance(value, str) or not value:
+            self.fail(where, f"entry needs a non-empty string 'name', got {value!r}")
+            return None
+        if value in seen:
+            self.fail(where, f"duplicate name '{value}'", "scene names must be unique")
+            return None
+        seen.add(value)
+        return value
+
+
+def _robot(c: _Checker, raw: Any) -> RobotSpec | None:
+    if raw is None:
+        return None
+    if not isinstance(raw, Mapping):
+        c.fail(1, "'robot' must be an object")
+        return None
+    model = raw.get("model", "panda")
+    if model not in ROBOT_MODELS:
+        c.fail(1, f"unknown robot model {model!r}", f"known models: {', '.join(ROBOT_MODELS)}")
+        return None
+    base = c.vec(raw, "base", 3, 1, default=(0.0, 0.0, 0.0))
+    yaw = c.num(raw, "yaw", 1, default=0.0)
+    if base is None or yaw is None:
+        return None
+    return RobotSpec(model, base, yaw)  # type: ignore[arg-type]
+
+
+def _boxes(c: _Checker, raw: Any, key: str, seen: set[str]) -> tuple[BoxSpec, ...]:
+    if not isinstance(raw, Sequence) or isinstance(raw, str):
+        c.fail(1, f"'{key}' must be a list of objects")
+        return ()
+    out = []
+    for i, entry in enumerate(raw, 1):
+        if not isinstance(entry, Mapping):
+            c.fail(i, f"{key} entry {i} must be an object")
+            continue
+        name = c.name(entry, i, seen)
+        size = c.vec(entry, "size", 3, i, positive=True)
+        pos = c.vec(entry, "position", 3, i)
+        color = c.vec(entry, "color", 4, i, default=(0.6, 0.45, 0.3, 1.0))
+        if name and size and pos and color:
+            out.append(BoxSpec(name, size, pos, color))  # type: ignore[arg-type]
+    return tuple(out)
+
+
+def _object(c: _Checker, entry: Any, i: int, seen: set[str]) -> ObjectSpec | None:
+    if not isinstance(entry, Mapping):
+        c.fail(i, f"objects entry {i} must be an object")
+        return None
+    name = c.name(entry, i, seen)
+    pos = c.vec(entry, "position", 3, i)
+    yaw = c.num(entry, "yaw", i, default=0.0)
+    mass = c.num(entry, "mass", i, default=0.1, positive=True)
+    color = c.vec(entry, "color", 4, i, default=(0.8, 0.2, 0.2, 1.0))
+    scale = c.num(entry, "scale", i, default=1.0, positive=True)
+    if "urdf" in entry:
+        shape, dims, urdf = "urdf", (), entry["urdf"]
+        if not isinstance(urdf, str) or not urdf.endswith(".urdf"):
+            c.fail(i, f"'urdf' must be a path to a .urdf file, got {urdf!r}")
+            return None
+    else:
+        shape, urdf = entry.get("shape"), None
+        if shape == "cylinder":
+            r = c.num(entry, "radius", i, positive=True)
+            h = c.num(entry, "height", i, positive=True)
+            dims = (r, h) if r and h else None
+        elif shape == "box":
+            dims = c.vec(entry, "size", 3, i, positive=True)
+        else:
+            c.fail(i, f"object '{name}' has unknown shape {shape!r}",
+                   "use shape 'cylinder' (radius, height), 'box' (size) or a 'urdf' path")
+            return None
+        if dims is None:
+            return None
+    if not (name and pos and yaw is not None and mass and color and scale):
+        return None
+    return ObjectSpec(name, shape, dims, pos, yaw, mass, color, urdf, scale)  # type: ignore[arg-type]
+
+
+def _uav(c: _Checker, raw: Any, seen: set[str]) -> UavSpec | None:
+    if raw is None:
+        return None
+    if not isinstance(raw, Mapping):
+        c.fail(1, "'uav' must be an object")
+        return None
+    name = raw.get("name", "uav")
+    if name in seen:
+        c.fail(1, f"duplicate name '{name}'")
+        return None
+    size = c.vec(raw, "size", 3, 1, default=(0.3, 0.3, 0.08), positive=True)
+    pos = c.vec(raw, "position", 3, 1)
+    bounds = raw.get("bounds", {})
+    if not isinstance(bounds, Mapping):
+        c.fail(1, "'uav.bounds' must be an object with 'low' and 'high'")
+        return None
+    low = c.vec(bounds, "low", 3, 1)
+    high = c.vec(bounds, "high", 3, 1)
+    battery = c.num(raw, "battery", 1, default=100.0, positive=True)
+    mass = c.num(raw, "mass", 1, default=1.0, positive=True)
+    if not (size and pos and low and high and battery and mass):
+        return None
+    if any(lo >= hi for lo, hi in zip(low, high)):
+        c.fail(1, "'uav.bounds.low' must be below 'high' on every axis")
+        return None
+    return UavSpec(str(name), size, pos, low, high, battery, mass)  # type: ignore[arg-type]
+
+
+def parse_scene(scene: Mapping) -> SceneSpec:
+    """Validate a scene dict; raise :class:`StampcError` listing every problem found."""
+    c = _Checker()
+    if not isinstance(scene, Mapping):
+        c.fail(1, f"a scene must be a JSON object, got {type(scene).__name__}")
+        raise StampcError(c.diags)
+    known = {"robot", "surfaces", "objects", "poses", "regions", "uav", "name", "meta"}
+    for key in scene:
+        if key not in known:
+            c.fail(1, f"unknown scene key {key!r}", f"known keys: {', '.join(sorted(known))}")
+    seen: set[str] = set()
+    c.section = "robot"
+    robot = _robot(c, scene.get("robot"))
+    c.section = "surfaces"
+    surfaces = _boxes(c, scene.get("surfaces", []), "surfaces", seen)
+    c.section = "objects"
+    objects_raw = scene.get("objects", [])
+    if not isinstance(objects_raw, Sequence) or isinstance(objects_raw, str):
+        c.fail(1, "'objects' must be a list of objects")
+        objects_raw = []
+    objects = tuple(o for i, e in enumerate(objects_raw, 1)
+                    if (o := _object(c, e, i, seen)) is not None)
+    c.section = "regions"
+    regions = _boxes(c, scene.get("regions", []), "regions", seen)
+    c.section = "uav"
+    uav = _uav(c, scene.get("uav"), seen)
+    c.section = "poses"
+    poses_raw = scene.get("poses", {})
+    poses: list[tuple[str, str]] = []
+    if not isinstance(poses_raw, Mapping):
+        c.fail(1, "'poses' must map pose symbols to object names")
+    else:
+        names = {o.name for o in objects}
+        for i, (sym, obj) in enumerate(poses_raw.items(), 1):
+            if obj not in names:
+                c.fail(i, f"pose symbol '{sym}' refers to unknown object {obj!r}")
+            else:
+                poses.append((str(sym), obj))
+    c.section = ""
+    if robot is None and uav is None and not c.diags:
+        c.fail(1, "a scene needs a 'robot' or a 'uav'")
+    if c.diags:
+        raise StampcError(c.diags)
+    return SceneSpec(robot, surfaces, objects, tuple(poses), regions, uav)

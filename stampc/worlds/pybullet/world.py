@@ -1,0 +1,312 @@
+"""The PyBullet world: one DIRECT client, the scene's bodies, the concrete state and the
+collision-check primitive everything else is built on.
+
+Collision checks follow the fastest measured pattern (see docs/worlds-pybullet.md):
+``resetJointStatesMultiDof`` + ``performCollisionDetection`` + ``getContactPoints`` with
+penetrating contacts only. Collision filter groups keep the broadphase to the pairs we
+ask about: the robot and the held object against movable objects and surfaces (and the
+robot against itself); objects resting on a table are never compared with each other.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Mapping
+
+from stampc.diagnostics import Span, StampcError, error
+from stampc.worlds.pybullet._pb import p, pybullet_data, quiet_stdout
+
+from stampc.worlds.pybullet.scene import (ROBOT_MODELS, BoxSpec, ObjectSpec, RobotModel,
+                                          SceneSpec)
+from stampc.worlds.pybullet.values import Pose, quat_from_yaw
+
+# collision filter groups (bit masks)
+G_ROBOT, G_HELD, G_MOVABLE, G_STATIC, G_UAV = 1, 2, 4, 8, 16
+#: contacts shallower than this (m) are resting contacts, not collisions
+PENETRATION = 1e-4
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Shape facts the generators need: kind, dimensions and footprint."""
+
+    kind: str  # "cylinder" | "box"
+    dims: tuple[float, ...]  # (radius, height) | (sx, sy, sz)
+
+    @property
+    def height(self) -> float:
+        return self.dims[1] if self.kind == "cylinder" else self.dims[2]
+
+    @property
+    def footprint(self) -> float:
+        """Radius of a circle around the object's base (for overlap tests)."""
+        if self.kind == "cylinder":
+            return self.dims[0]
+        return 0.5 * (self.dims[0] ** 2 + self.dims[1] ** 2) ** 0.5
+
+
+@dataclass(frozen=True)
+class WorldState:
+    """Everything that changes while a plan executes (immutable: snapshots share it)."""
+
+    q: tuple[float, ...]
+    poses: tuple[tuple[str, Pose], ...]
+    held: str | None = None
+    #: the held object's pose in the end-effector frame
+    grip: Pose | None = None
+    #: straight back-off the next arm motion starts with (set by pick and place)
+    retreat: tuple[float, ...] | None = None
+    released: str | None = None
+    uav: Pose | None = None
+    battery: float = 0.0
+    #: objects taken out of the scene (e.g. a crushed can thrown away)
+    removed: frozenset[str] = frozenset()
+
+    def pose(self, name: str) -> Pose:
+        return dict(self.poses)[name]
+
+
+class PyBulletWorld:
+    """A concrete world on one PyBullet DIRECT client (implements ``World``)."""
+
+    package = "stampc.worlds.pybullet"
+
+    def __init__(self, spec: SceneSpec, *, seed: int, verbose: bool = False):
+        self.spec = spec
+        self.seed = seed
+        self.verbose = verbose
+        with quiet_stdout(not verbose):
+            self.client = p.connect(p.DIRECT)
+        try:
+            self._build(spec)
+        except BaseException:
+            self.close()  # never leak a client when the scene cannot be built
+            raise
+        self.checks = 0  # collision checks performed (for benchmarks)
+
+    # ------------------------------------------------------------------ building
+    def _build(self, spec: SceneSpec) -> None:
+        p.setAdditionalSearchPath(pybullet_data.getDataPath(), physicsClientId=self.client)
+        self.body: dict[str, int] = {}
+        self.name_of: dict[int, str] = {}
+        self.geometry: dict[str, Geometry] = {}
+        self.surfaces: dict[str, BoxSpec] = {s.name: s for s in spec.surfaces}
+        self.regions: dict[str, BoxSpec] = {r.name: r for r in spec.regions}
+        self.static_ids: frozenset[int] = frozenset(self._add_box(s) for s in spec.surfaces)
+        self.movable_ids: frozenset[int] = frozenset(self._add_object(o) for o in spec.objects)
+        self.robot = -1
+        self.model: RobotModel | None = None
+        if spec.robot is not None:
+            self._add_robot()
+        self.uav = self._add_uav() if spec.uav is not None else -1
+        self._placed: dict[str, Pose] = {}
+        poses = tuple((o.name, Pose.of(o.position, quat_from_yaw(o.yaw))) for o in spec.objects)
+        q0 = self.model.rest if self.model else ()
+        uav_pose = Pose.of(spec.uav.position) if spec.uav else None
+        battery = spec.uav.battery if spec.uav else 0.0
+        self._state = WorldState(q0, poses, uav=uav_pose, battery=battery)
+        self._sync(self._state, force=True)
+
+    def _register(self, name: str, body: int) -> int:
+        self.body[name] = body
+        self.name_of[body] = name
+        return body
+
+    def _add_box(self, s: BoxSpec) -> int:
+        half = [v / 2.0 for v in s.size]
+        col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=self.client)
+        vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=s.color,
+                                  physicsClientId=self.client)
+        body = p.createMultiBody(0.0, col, vis, s.position, physicsClientId=self.client)
+        p.setCollisionFilterGroupMask(body, -1, G_STATIC, G_ROBOT | G_HELD | G_UAV,
+                                      physicsClientId=self.client)
+        return self._register(s.name, body)
+
+    def _add_object(self, o: ObjectSpec) -> int:
+        cid = self.client
+        orn = quat_from_yaw(o.yaw)
+        if o.shape == "urdf":
+            try:
+                with quiet_stdout(not self.verbose):
+                    body = p.loadURDF(o.urdf, o.position, orn, globalScaling=o.scale,
+                                      physicsClientId=cid)
+            except p.error:
+                body = -1
+            if body < 0:
+                raise StampcError([error("PB002", f"cannot load URDF {o.urdf!r} for '{o.name}'",
+                                         Span.point("<scene objects>"),
+                                         "paths are relative to pybullet_data or absolute")])
+            p.changeDynamics(body, -1, mass=o.mass, physicsClientId=cid)
+            p.resetBasePositionAndOrientation(body, o.position, (0, 0, 0, 1), physicsClientId=cid)
+            lo, hi = p.getAABB(body, -1, physicsClientId=cid)
+            self.geometry[o.name] = Geometry("box", tuple(h - l for l, h in zip(lo, hi)))
+        else:
+            if o.shape == "cylinder":
+                r, h = o.dims
+                kw = {"shapeType": p.GEOM_CYLINDER, "radius": r}
+                col = p.createCollisionShape(height=h, physicsClientId=cid, **kw)
+                vis = p.createVisualShape(length=h, rgbaColor=o.color, physicsClientId=cid, **kw)
+            else:
+                half = [v / 2.0 for v in o.dims]
+                col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=cid)
+                vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=o.color,
+                                          physicsClientId=cid)
+            body = p.createMultiBody(o.mass, col, vis, o.position, orn, physicsClientId=cid)
+            self.geometry[o.name] = Geometry(o.shape, o.dims)
+        p.setCollisionFilterGroupMask(body, -1, G_MOVABLE, G_ROBOT | G_HELD | G_UAV,
+                                      physicsClientId=cid)
+        return self._register(o.name, body)
+
+    def _add_robot(self) -> None:
+        assert self.spec.robot is not None
+        cid = self.client
+        self.model = model = ROBOT_MODELS[self.spec.robot.model]
+        flags = p.URDF_USE_SELF_COLLISION if model.self_collision else 0
+        with quiet_stdout(not self.verbose):
+            self.robot = p.loadURDF(model.urdf, self.spec.robot.base,
+                                    quat_from_yaw(self.spec.robot.yaw), useFixedBase=True,
+                                    flags=flags, physicsClientId=cid)
+        for a, b in model.ignored_self_pairs:
+            p.setCollisionFilterPair(self.robot, self.robot, a, b, 0, physicsClientId=cid)
+        mask = G_MOVABLE | G_STATIC | (G_ROBOT if model.self_collision else 0)
+        for link in range(-1, p.getNumJoints(self.robot, physicsClientId=cid)):
+            p.setCollisionFilterGroupMask(self.robot, link, G_ROBOT, mask, physicsClientId=cid)
+        infos = [p.getJointInfo(self.robot, j, physicsClientId=cid) for j in model.arm_joints]
+        self.lower = tuple(i[8] for i in infos)
+        self.upper = tuple(i[9] for i in infos)
+        self.name_of[self.robot] = "robot"
+        for j in model.finger_joints:  # fingers stay open: conservative for collisions
+            p.resetJointState(self.robot, j, model.finger_open, physicsClientId=cid)
+        movable = [j for j in range(p.getNumJoints(self.robot, physicsClientId=cid))
+                   if p.getJointInfo(self.robot, j, physicsClientId=cid)[2] != p.JOINT_FIXED]
+        #: all non-fixed joints, in the order IK returns them
+        self.ik_joints = tuple(movable)
+
+    def _add_uav(self) -> int:
+        u = self.spec.uav
+        assert u is not None
+        half = [v / 2.0 for v in u.size]
+        col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=self.client)
+        vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=(0.1, 0.1, 0.1, 1),
+                                  physicsClientId=self.client)
+        # mass > 0: PyBullet skips pairs of two static bodies
+        body = p.createMultiBody(u.mass, col, vis, u.position, physicsClientId=self.client)
+        p.setCollisionFilterGroupMask(body, -1, G_UAV, G_STATIC | G_MOVABLE,
+                                      physicsClientId=self.client)
+        self.name_of[body] = u.name
+        return body
+
+    # ------------------------------------------------------------------ World protocol
+    def snapshot(self) -> WorldState:
+        return self._state
+
+    def restore(self, state: WorldState) -> None:
+        self._sync(state)
+
+    def initial_values(self) -> Mapping[str, Pose]:
+        initial = {o.name: Pose.of(o.position, quat_from_yaw(o.yaw)) for o in self.spec.objects}
+        return {sym: initial[obj] for sym, obj in self.spec.poses}
+
+    def close(self) -> None:
+        if self.client >= 0:
+            p.disconnect(physicsClientId=self.client)
+            self.client = -1
+
+    def __enter__(self) -> "PyBulletWorld":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ state
+    @property
+    def state(self) -> WorldState:
+        return self._state
+
+    def _sync(self, state: WorldState, force: bool = False) -> None:
+        """Make the bodies match ``state``, touching only what changed."""
+        old = self._state
+        if force or old.held != state.held:
+            if old.held is not None:
+                self._set_group(old.held, G_MOVABLE, G_ROBOT | G_HELD | G_UAV)
+            if state.held is not None:
+                self._set_group(state.held, G_HELD, G_MOVABLE | G_STATIC)
+        for name, pose in state.poses:
+            if name in state.removed:
+                pose = self._limbo(name)
+            if force or self._placed.get(name) != pose:
+                self._place_body(name, pose)
+        self._state = state
+        if self.robot >= 0:
+            self.set_arm(state.q)
+        if self.uav >= 0 and state.uav is not None:
+            p.resetBasePositionAndOrientation(self.uav, state.uav.pos, state.uav.quat,
+                                              physicsClientId=self.client)
+
+    def _limbo(self, name: str) -> Pose:
+        """Where removed objects wait: far below the floor, apart from each other."""
+        return Pose((0.0, 10.0 * self.body[name], -100.0))
+
+    def _set_group(self, name: str, group: int, mask: int) -> None:
+        p.setCollisionFilterGroupMask(self.body[name], -1, group, mask,
+                                      physicsClientId=self.client)
+
+    def _place_body(self, name: str, pose: Pose) -> None:
+        p.resetBasePositionAndOrientation(self.body[name], pose.pos, pose.quat,
+                                          physicsClientId=self.client)
+        self._placed[name] = pose
+
+    def update(self, **changes: object) -> None:
+        """Replace fields of the current state (and move bodies accordingly)."""
+        self._sync(replace(self._state, **changes))
+
+    def with_object_pose(self, name: str, pose: Pose) -> tuple[tuple[str, Pose], ...]:
+        return tuple((n, pose if n == name else old) for n, old in self._state.poses)
+
+    def object_pose(self, name: str) -> Pose:
+        return self._state.pose(name)
+
+    def movable_names(self) -> list[str]:
+        return [self.name_of[b] for b in sorted(self.movable_ids)]
+
+    def present(self, name: str) -> bool:
+        return name in self.geometry and name not in self._state.removed
+
+    # ------------------------------------------------------------------ kinematics
+    def set_arm(self, q: tuple[float, ...] | list[float]) -> None:
+        """Put the arm at ``q`` (and carry the held object along)."""
+        assert self.model is not None
+        p.resetJointStatesMultiDof(self.robot, self.model.arm_joints, [[v] for v in q],
+                                   physicsClientId=self.client)
+        if self._state.held is not None and self._state.grip is not None:
+            obj = self.ee_pose().multiply(self._state.grip)
+            p.resetBasePositionAndOrientation(self.body[self._state.held], obj.pos, obj.quat,
+                                              physicsClientId=self.client)
+            self._placed.pop(self._state.held, None)  # the body left its recorded pose
+
+    def ee_pose(self) -> Pose:
+        assert self.model is not None
+        ls = p.getLinkState(self.robot, self.model.ee_link, computeForwardKinematics=True,
+                            physicsClientId=self.client)
+        return Pose(tuple(ls[4]), tuple(ls[5]))
+
+    # ------------------------------------------------------------------ collisions
+    def hits(self, q: tuple[float, ...] | list[float]) -> tuple[frozenset[int], frozenset[int]]:
+        """Bodies the robot and the held object penetrate at ``q`` (robot id = self-hit)."""
+        self.set_arm(q)
+        return self.contacts()
+
+    def contacts(self) -> tuple[frozenset[int], frozenset[int]]:
+        cid = self.client
+        self.checks += 1
+        p.performCollisionDetection(physicsClientId=cid)
+        robot = frozenset(c[2] for c in p.getContactPoints(bodyA=self.robot, physicsClientId=cid)
+                          if c[8] < -PENETRATION)
+        held: frozenset[int] = frozenset()
+        if self._state.held is not None:
+            held = frozenset(c[2] for c in p.getContactPoints(
+                bodyA=self.body[self._state.held], physicsClientId=cid) if c[8] < -PENETRATION)
+        return robot, held
+
+    def names(self, bodies: frozenset[int]) -> frozenset[str]:
+        return frozenset(self.name_of[b] for b in bodies if b in self.name_of)
