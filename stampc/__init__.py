@@ -2,7 +2,7 @@
 
 Public API: ``parse``, ``load``, ``check`` (front end); ``compile``, ``import_ppddl``,
 ``load_model``, ``ground``, ``to_ppddl`` (IR and PPDDL); ``solve`` (SSP solvers);
-``refine`` (anytime refinement). Stages are imported lazily so that ``stampc check``
+``refine_policy`` (anytime refinement; the engine itself is ``stampc.refine``). Stages are imported lazily so that ``stampc check``
 stays fast and never touches simulators.
 """
 
@@ -19,7 +19,7 @@ _LAZY = {
     "check": "stampc.semantics.api",
     "compile": "stampc.api", "import_ppddl": "stampc.api", "load_model": "stampc.api",
     "ground": "stampc.api", "to_ppddl": "stampc.api", "solve": "stampc.api",
-    "refine": "stampc.api",
+    "refine_policy": "stampc.api",
 }
 
 __all__ = ["Diagnostic", "Severity", "Span", "StampcError", "__version__", *_LAZY]

@@ -4,7 +4,7 @@
     model = stampc.compile("examples/cluttered_table/domain.stamp", "examples/cluttered_table/problem.stamp")
     ground = model.ground()
     solution = stampc.solve(ground)
-    run = stampc.refine(["domain.stamp", "problem.stamp"], world="plane2d")
+    run = stampc.refine_policy(["domain.stamp", "problem.stamp"], world="plane2d")
 
 Bad input raises :class:`stampc.StampcError` carrying located diagnostics.
 """
@@ -29,11 +29,10 @@ def _paths(files: Sequence[str | Path]) -> list[Path]:
 def compile(domain: str | Path, problem: str | Path | None = None) -> Model:  # noqa: A001
     """Check and lower ``.stamp`` source(s) to the lifted IR (one file may hold both)."""
     from stampc.ir.lower import lower
-    from stampc.semantics.api import load
+    from stampc.semantics.api import load_together
 
     paths = _paths([domain] + ([problem] if problem is not None else []))
-    loaded = load(*paths)
-    return lower(loaded)
+    return lower(load_together(paths))
 
 
 def import_ppddl(path: str | Path, problem: str | Path | None = None) -> Model:
@@ -80,7 +79,7 @@ def to_ppddl(model: Model) -> tuple[str, str]:
     return emit_ppddl(model, extra_objects=symbols, extra_init=facts)
 
 
-def refine(files: Sequence[str | Path], *, world: str = "plane2d", options=None,
+def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", options=None,
            on_event: Callable | None = None, scene_overrides: Mapping[str, Any] | None = None,
            verbose: bool = False):
     """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``."""

@@ -57,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
         solver=SolverOptions(heuristic="hmax", seed=args.seed))
     try:
         with _progress(args.quiet) as on_event:
-            run_ = api.refine(args.files, world=args.world, options=options, on_event=on_event,
+            run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
                               scene_overrides=overrides, verbose=args.verbose)
     except StampcError as exc:
         return fail_with(exc)

@@ -28,7 +28,7 @@ import networkx as nx
 
 from stampc.ir.grounded import GroundModel
 from stampc.refine.concretize import Concretizer, Failure, Success
-from stampc.refine.graph import (HORIZON, Concrete, Node, PolicyGraph, abstract_goal_probability,
+from stampc.refine.graph import (GOAL, HORIZON, Concrete, Node, PolicyGraph, abstract_goal_probability,
                                  coverage, goal_probability, iter_leaf_paths, path_is_covered,
                                  path_values, select_path)
 from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
@@ -112,18 +112,28 @@ class Engine:
     def _initialise(self) -> bool:
         """Solve at the root, growing the horizon until the goal has probability > 0."""
         snapshot = self.world.snapshot()
-        while True:
-            graph = PolicyGraph(-1, {})
-            root = self.planner.graft(graph, self.model.init, 0, self.horizon)
-            graph.root = root
-            key = self.world.fingerprint(snapshot) if hasattr(self.world, "fingerprint") else None
-            graph.nodes[root].concrete = Concrete(snapshot, key)
-            if abstract_goal_probability(graph) > 0 or self.horizon >= self.options.max_horizon:
-                break
-            self.horizon = min(2 * self.horizon, self.options.max_horizon)
+        graph = PolicyGraph(-1, {})
+        graph.root = self._graft_growing(graph, self.model.init, 0, None)
+        key = self.world.fingerprint(snapshot) if hasattr(self.world, "fingerprint") else None
+        graph.nodes[graph.root].concrete = Concrete(snapshot, key)
         self.prg.add_node(0, graph=graph, parent=None, failed=False)
         self._track(0, graph)
         return abstract_goal_probability(graph) > 0
+
+    def _graft_growing(self, graph: PolicyGraph, state: int, depth: int,
+                       forced: int | None) -> int:
+        """Plan from ``state`` and graft the policy unrolled for one horizon; while the goal
+        is out of reach only because of the horizon, double it (dynamic horizon growth)."""
+        while True:
+            scratch = PolicyGraph(-1, {})
+            scratch.root = self.planner.graft(scratch, state, depth, depth + self.horizon,
+                                              forced_action=forced)
+            leaves = {n.leaf for n in scratch.nodes.values() if n.is_leaf}
+            if (GOAL in leaves or HORIZON not in leaves
+                    or self.horizon >= self.options.max_horizon):
+                graph.nodes.update(scratch.nodes)
+                return scratch.root
+            self.horizon = min(2 * self.horizon, self.options.max_horizon)
 
     # ----------------------------------------------------------------- step
     def step(self) -> tuple[str, str]:
@@ -155,7 +165,7 @@ class Engine:
 
     def _extend(self, graph: PolicyGraph, leaf: Node) -> tuple[str, str]:
         """Dynamic horizon growth: replace a horizon leaf by a freshly planned subtree."""
-        sub = self.planner.graft(graph, leaf.state, leaf.depth, leaf.depth + self.horizon)
+        sub = self._graft_growing(graph, leaf.state, leaf.depth, None)
         self._adopt(graph, leaf, graph[sub])
         self._track(self.current, graph)
         return "extend", f"node {leaf.uid} at depth {leaf.depth}"
@@ -218,6 +228,8 @@ class Engine:
         if failure.violated:
             return self._update(graph, node, failure.violated, "update")
         node.attempts += 1
+        if self.rng.random() < self.options.explore_probability:
+            return self._update(graph, node, (), "explore")  # replans with a random action
         if node.attempts < self.options.max_attempts:
             return "retry", f"{self.model.actions[node.action].label}: no usable sample"
         self.planner.forbidden.add((node.state, node.action))
@@ -231,16 +243,15 @@ class Engine:
         for fact, value in learned:
             state = state | (1 << fact) if value else state & ~(1 << fact)
         forced = None
-        if self.rng.random() < self.options.explore_probability:
+        if kind == "explore" or self.rng.random() < self.options.explore_probability:
             forced = self.planner.random_action(state, self.rng, exclude=node.action)
             kind = "explore" if forced is not None else kind
-        horizon = target.depth + self.horizon
-        sub = self.planner.graft(new_graph, state, target.depth, horizon, forced_action=forced)
+        sub = self._graft_growing(new_graph, state, target.depth, forced)
         self._adopt(new_graph, target, new_graph[sub])
-        target.learned = tuple(learned)
+        target.learned = target.learned + tuple(learned)
         new_graph.prune()
         v = self.prg.number_of_nodes()
-        failed = abstract_goal_probability(new_graph) <= 0.0
+        failed = not any(n.leaf in (GOAL, HORIZON) for n in new_graph.nodes.values())
         facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
         self.prg.add_node(v, graph=new_graph, parent=self.current, failed=failed)
         self.prg.add_edge(self.current, v, node=node.uid, failed_preconditions=facts,
