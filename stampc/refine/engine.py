@@ -65,6 +65,13 @@ class Engine:
     def run(self) -> Iterator[ProgressEvent]:
         """Anytime loop: yields a progress event per iteration until a stop condition."""
         self._start = time.perf_counter()
+        initial = self.world.snapshot()
+        try:
+            yield from self._loop()
+        finally:
+            self.world.restore(initial)  # leave the world as we found it
+
+    def _loop(self) -> Iterator[ProgressEvent]:
         if not self._initialise():
             self.stop_reason = "abstract goal unreachable"
             yield self._event("done", self.stop_reason)

@@ -130,24 +130,28 @@ def test_horizon_grows_until_the_policy_is_covered():
 
 def test_refined_nodes_survive_every_update():
     """UpdateAbstraction replans below a failing node only: every node refined in the
-    parent PRG node is still refined, with the same concretization, in the child."""
+    parent PRG node is still refined, with the same concretization, in the child.
+    Checked over several seeds in UpdateAbstraction mode (at least one updates below
+    an already refined prefix)."""
     model, world, bindings = open_for(SHELF)
-    engine = Engine(model.ground(), world, bindings, RefineOptions(seed=4, time_limit=60))
+    ground = model.ground()
     checked = 0
     try:
-        prg_size = 1
-        for _ in engine.run():
-            if engine.prg.number_of_nodes() > prg_size:
-                prg_size = engine.prg.number_of_nodes()
-                child = prg_size - 1
-                parent = engine.prg.nodes[child]["parent"]
-                before = engine.prg.nodes[parent]["graph"]
-                after = engine.prg.nodes[child]["graph"]
-                for uid, node in before.nodes.items():
-                    if node.refined:
-                        assert uid in after.nodes and after[uid].sigma is node.sigma
-                        checked += 1
+        for seed in range(10):
+            engine = Engine(ground, world, bindings,
+                            RefineOptions(seed=seed, update_probability=1.0, time_limit=60))
+            prg_size = 1
+            for _ in engine.run():
+                if engine.prg.number_of_nodes() > prg_size:
+                    prg_size = engine.prg.number_of_nodes()
+                    parent = engine.prg.nodes[prg_size - 1]["parent"]
+                    before = engine.prg.nodes[parent]["graph"]
+                    after = engine.prg.nodes[prg_size - 1]["graph"]
+                    for uid, node in before.nodes.items():
+                        if node.refined:
+                            assert uid in after.nodes and after[uid].sigma is node.sigma
+                            checked += 1
+            assert engine.best[0] == pytest.approx(1.0, abs=1e-9)
     finally:
         world.close()
-    assert engine.best[0] == pytest.approx(1.0, abs=1e-9)
     assert checked > 0
