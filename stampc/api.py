@@ -74,8 +74,14 @@ def to_ppddl(model: Model) -> tuple[str, str]:
     known = {o.name for o in model.problem.objects} | {c.name for c in model.domain.constants}
     symbols = tuple(Object(n, t, symbolic=True) for n, t in gm.objects if n not in known)
     certified = {a.predicate for g in model.domain.generators for a in g.certifies}
+    # `?` facts assumed true (optimistic) start true: PPDDL needs them in :init
+    assumed = {p.name for p in model.domain.predicates if p.unknowable and p.optimistic}
+    initial = {a for a in model.problem.init}
     facts = tuple(Atom(f.predicate, tuple(Const(a) for a in f.args))
                   for f in gm.static_facts if f.predicate in certified)
+    facts += tuple(atom for atom in (Atom(f.predicate, tuple(Const(a) for a in f.args))
+                                     for f in gm.state_facts(gm.init) if f.predicate in assumed)
+                   if atom not in initial)
     return emit_ppddl(model, extra_objects=symbols, extra_init=facts)
 
 

@@ -54,7 +54,7 @@ def emit_ppddl(model: Model, *, extra_objects: Iterable[Object | tuple[str, str]
     mangled = mangle_model(costed, tuple(_as_object(o) for o in extra_objects),
                            tuple(_as_atom(a) for a in extra_init))
     m = mangled.model
-    typed = any(t.parent is not None for t in m.domain.types)
+    typed = bool(m.domain.types)
     requirements = required_flags(m, explicit_costs=explicit_costs)
     metric = None
     if m.problem.metric is not None or (stamp_origin and ":rewards" in requirements):
@@ -63,7 +63,9 @@ def emit_ppddl(model: Model, *, extra_objects: Iterable[Object | tuple[str, str]
     domain_text = env.get_template("domain.pddl.j2").render(
         comments=_domain_comments(model, mangled.renames),
         name=m.domain.name, requirements=requirements,
-        types=[f"{t.name} - {t.parent}" for t in m.domain.types if t.parent is not None],
+        # stamp root types have no parent; PPDDL needs every type declared (under object)
+        types=[f"{t.name} - {t.parent or 'object'}" for t in m.domain.types
+               if t.name != "object"],
         constants=_object_lines(m.domain.constants, typed),
         predicates=[render.flat(_declaration(p.name, p.params, typed))
                     for p in m.domain.predicates],
