@@ -1,0 +1,56 @@
+"""``stampc check``: parse, resolve and type-check stamp files; print diagnostics."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from stampc.diagnostics import Severity, SourceCache, StampcError, render_human, render_json, summary_line
+from stampc.semantics.api import analyze, unique_sorted
+from stampc.semantics.loader import display_name, source_from_text
+
+HELP = "check stamp domains and problems for errors and warnings"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("files", nargs="+", metavar="FILE",
+                        help="domain and/or problem files (a problem's domain is found via `for DOMAIN`)")
+    parser.add_argument("--format", choices=("human", "json"), default="human",
+                        help="output format (default: human)")
+    parser.add_argument("--strict", action="store_true", help="treat warnings as failures")
+
+
+def run(args: argparse.Namespace) -> int:
+    sources = []
+    for name in args.files:
+        path = Path(name)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not UTF-8 text"
+            print(f"stampc check: error: cannot read {name}: {reason}", file=sys.stderr)
+            return 2
+        sources.append(source_from_text(text, display_name(path), path))
+    try:
+        programs = analyze(sources)
+    except StampcError as exc:  # defensive: the analysis reports problems as diagnostics
+        programs = []
+        diags = list(exc.diagnostics)
+    else:
+        diags = unique_sorted([d for p in programs for d in p.diagnostics])
+    cache = SourceCache()
+    for program in programs:
+        for file, text in program.sources.items():
+            cache.add(file, text)
+    if args.format == "json":
+        print(render_json(diags))
+    else:
+        for d in diags:
+            print(render_human(d, cache))
+            print()
+        print(summary_line(diags))
+    failed = any(d.severity is Severity.ERROR for d in diags)
+    if args.strict:
+        failed = failed or any(d.severity is Severity.WARNING for d in diags)
+    return 1 if failed else 0

@@ -1,0 +1,54 @@
+"""Every front-end diagnostic code in one table (docs/language.md lists the same codes).
+
+Codes are stable: tools match on them. ``E0xx`` syntax and structure, ``E1xx`` names,
+``E2xx`` arity/types/duplicates, ``E3xx`` stochastic and TAMP rules, ``E5xx`` lowering,
+``W4xx`` warnings (lints).
+"""
+
+from __future__ import annotations
+
+from stampc.diagnostics import Diagnostic, Label, Severity, Span, error, warning
+
+CODES: dict[str, tuple[Severity, str]] = {
+    "E001": (Severity.ERROR, "syntax error"),
+    "E002": (Severity.ERROR, "declaration not allowed here"),
+    "E003": (Severity.ERROR, "used module or file not found"),
+    "E004": (Severity.ERROR, "invalid number (an integer is required)"),
+    "E005": (Severity.ERROR, "invalid object range"),
+    "E101": (Severity.ERROR, "undefined type"),
+    "E102": (Severity.ERROR, "undefined predicate or function"),
+    "E103": (Severity.ERROR, "undefined constant or object"),
+    "E104": (Severity.ERROR, "undefined generator"),
+    "E105": (Severity.ERROR, "undefined variable"),
+    "E106": (Severity.ERROR, "unbound variable (used outside its quantifier)"),
+    "E107": (Severity.ERROR, "undefined domain"),
+    "E201": (Severity.ERROR, "arity mismatch"),
+    "E202": (Severity.ERROR, "argument type mismatch"),
+    "E203": (Severity.ERROR, "duplicate definition"),
+    "E204": (Severity.ERROR, "duplicate parameter"),
+    "E205": (Severity.ERROR, "cyclic type hierarchy"),
+    "E301": (Severity.ERROR, "probability outside [0, 1]"),
+    "E302": (Severity.ERROR, "outcome probabilities sum above 1"),
+    "E303": (Severity.ERROR, "`?` on a static predicate"),
+    "E304": (Severity.ERROR, "effect on a static predicate"),
+    "E305": (Severity.ERROR, "continuous parameter that no generator produces"),
+    "E306": (Severity.ERROR, "malformed or missing binding"),
+    "E307": (Severity.ERROR, "goal uses an undeclared object"),
+    "E308": (Severity.ERROR, "unreachable goal fact"),
+    "E309": (Severity.ERROR, "generator output of a non-continuous type"),
+    "E501": (Severity.ERROR, "cannot lower to the lifted IR"),
+    "W401": (Severity.WARNING, "unused predicate"),
+    "W402": (Severity.WARNING, "unused type"),
+    "W403": (Severity.WARNING, "unused generator"),
+    "W404": (Severity.WARNING, "`?` fact never read by a precondition"),
+    "W405": (Severity.WARNING, "`?` predicate read both positively and negatively"),
+    "W406": (Severity.WARNING, "evaluator for a predicate no effect marks with `?`"),
+}
+
+
+def diag(code: str, message: str, span: Span, hint: str | None = None,
+         labels: tuple[Label, ...] = ()) -> Diagnostic:
+    """A diagnostic with the severity registered for ``code``."""
+    severity, _title = CODES[code]
+    make = error if severity is Severity.ERROR else warning
+    return make(code, message, span, hint, labels)
