@@ -1,0 +1,113 @@
+"""``stampc solve``: solve the abstract SSP of a stamp or PPDDL problem."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from dataclasses import asdict
+
+from stampc.diagnostics import StampcError
+
+HELP = "solve the abstract SSP (LAO*, LRTDP or VI) and write the policy"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from stampc.solvers import ALGORITHMS, HEURISTICS
+
+    parser.add_argument("files", nargs="+", metavar="FILE",
+                        help="DOMAIN [PROBLEM] (.stamp), one .pddl file (problem-only files find "
+                             "domain.pddl beside them), or domain.pddl problem.pddl")
+    parser.add_argument("--algorithm", choices=ALGORITHMS, default="lao")
+    parser.add_argument("--heuristic", choices=HEURISTICS, default="hmax",
+                        help="zero, hmax (admissible) or hadd (INADMISSIBLE, faster)")
+    parser.add_argument("--epsilon", type=float, default=1e-4, help="Bellman residual to converge")
+    parser.add_argument("--dead-end-cost", type=float, default=500.0,
+                        help="give-up cost D: dead ends cost D and every Q-value is capped at D")
+    parser.add_argument("--unit-cost", action="store_true",
+                        help="every action costs 1, ignoring declared costs/rewards")
+    parser.add_argument("--horizon", type=int, default=None,
+                        help="finite horizon (time-indexed values; default: the problem's own)")
+    parser.add_argument("--time-limit", type=float, default=None, help="seconds")
+    parser.add_argument("--seed", type=int, default=0, help="seed for LRTDP and simulation")
+    parser.add_argument("--format", choices=("text", "json"), default="text")
+    parser.add_argument("-o", "--output", metavar="FILE", help="write the policy as JSON")
+    parser.add_argument("--dot", metavar="FILE", help="write the policy graph as Graphviz DOT")
+    parser.add_argument("--simulate", type=int, default=0, metavar="N",
+                        help="simulate N runs of the policy (seeded by --seed)")
+    parser.add_argument("--max-steps", type=int, default=1000,
+                        help="step cap per simulated run")
+
+
+def _report(args, solution, sim, parse_ground_s: float, total_s: float, cpu_s: float) -> dict:
+    from stampc.solvers.export import summary
+
+    out = {"files": args.files, **summary(solution), "parse_ground_s": parse_ground_s,
+           "total_time_s": total_s, "cpu_time_s": cpu_s}
+    if sim is not None:
+        out["simulation"] = asdict(sim)
+    return out
+
+
+def _print_text(report: dict) -> None:
+    print(f"expected cost     {report['expected_cost']:.6f}")
+    print(f"goal probability  {report['goal_probability']:.6f}")
+    print(f"states expanded   {report['states_expanded']} "
+          f"(generated {report['states_generated']})")
+    print(f"time              solve {report['solve_time_s']:.3f} s, parse+ground "
+          f"{report['parse_ground_s']:.3f} s, total {report['total_time_s']:.3f} s")
+    if not report["converged"]:
+        print("warning: time limit reached before convergence; values are lower bounds")
+    sim = report.get("simulation")
+    if sim:
+        lo, hi = sim["cost_ci95"]
+        glo, ghi = sim["goal_rate_ci95"]
+        print(f"simulation        {sim['runs']} runs (seed {sim['seed']}): cost "
+              f"{sim['mean_cost']:.4f} [95% CI {lo:.4f}, {hi:.4f}], goal rate "
+              f"{sim['goal_rate']:.4f} [{glo:.4f}, {ghi:.4f}]")
+
+
+def run(args: argparse.Namespace) -> int:
+    from stampc.solvers import SolverOptions, check_options, simulate, solve
+    from stampc.solvers.export import write_policy_dot, write_policy_json
+    from stampc.solvers.loading import load_ground_model
+
+    if args.simulate < 0:
+        print("error: --simulate must be >= 0", file=sys.stderr)
+        return 2
+    options = SolverOptions(algorithm=args.algorithm, heuristic=args.heuristic,
+                            epsilon=args.epsilon, dead_end_cost=args.dead_end_cost,
+                            unit_cost=args.unit_cost, horizon=args.horizon,
+                            time_limit=args.time_limit, seed=args.seed)
+    start, cpu_start = time.perf_counter(), time.process_time()
+    try:
+        check_options(options)
+    except StampcError as exc:
+        for d in exc.diagnostics:
+            print(f"error: {d.message}" + (f" ({d.hint})" if d.hint else ""), file=sys.stderr)
+        return 2
+    try:
+        model = load_ground_model(args.files)
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    parse_ground_s = time.perf_counter() - start
+    solution = solve(model, options)
+    total_s = time.perf_counter() - start
+    cpu_s = time.process_time() - cpu_start  # robust to other load on a shared machine
+    sim = (simulate(model, solution, runs=args.simulate, seed=args.seed, max_steps=args.max_steps)
+           if args.simulate else None)
+    report = _report(args, solution, sim, parse_ground_s, total_s, cpu_s)
+    try:
+        if args.output:
+            write_policy_json(args.output, model, solution)
+        if args.dot:
+            write_policy_dot(args.dot, model, solution)
+    except OSError as exc:
+        print(f"error: cannot write output: {exc}", file=sys.stderr)
+        return 2
+    if args.format == "json":
+        print(json.dumps(report))
+    else:
+        _print_text(report)
+    return 0

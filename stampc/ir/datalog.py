@@ -1,0 +1,211 @@
+"""A small semi-naive Datalog evaluator for the relaxed reachability rules.
+
+Facts are tuples of object names grouped by relation. Each round joins every rule with
+at least one body atom restricted to the facts that are new since the previous round
+(the *delta*), so long relaxed plans (chains of 2,000 actions) cost one cheap round each
+instead of a full re-evaluation. Joins use hash indexes built on demand per
+(relation, bound positions).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Iterable
+
+from stampc.ir.relax import Filter, Pattern, Rule
+
+Env = dict[str, str]
+
+
+class FactBase:
+    """Relations with incrementally maintained hash indexes."""
+
+    def __init__(self) -> None:
+        self.rels: dict[str, set[tuple[str, ...]]] = {}
+        self._indexes: dict[str, dict[tuple[int, ...], dict[tuple, list]]] = {}
+
+    def relation(self, rel: str) -> set[tuple[str, ...]]:
+        return self.rels.get(rel, set())
+
+    def add(self, rel: str, tup: tuple[str, ...]) -> bool:
+        facts = self.rels.setdefault(rel, set())
+        if tup in facts:
+            return False
+        facts.add(tup)
+        for positions, index in self._indexes.get(rel, {}).items():
+            index.setdefault(tuple(tup[p] for p in positions), []).append(tup)
+        return True
+
+    def lookup(self, rel: str, positions: tuple[int, ...], key: tuple) -> Iterable[tuple]:
+        by_pos = self._indexes.setdefault(rel, {})
+        index = by_pos.get(positions)
+        if index is None:
+            index = {}
+            for tup in self.rels.get(rel, ()):
+                index.setdefault(tuple(tup[p] for p in positions), []).append(tup)
+            by_pos[positions] = index
+        return index.get(key, ())
+
+
+@dataclass(frozen=True)
+class _Step:
+    pattern: Pattern
+    bound: tuple[int, ...]           # positions whose value is known before this step
+    key_terms: tuple[tuple[bool, str], ...]
+    binds: tuple[tuple[int, str], ...]   # first occurrences of new variables
+    checks: tuple[tuple[int, str], ...]  # repeated new variables inside this atom
+    full: bool                       # every position bound: a membership test
+    filters: tuple[Filter, ...]      # filters that become checkable after this step
+
+
+def _plan(rule: Rule, anchor: int | None) -> tuple[tuple[_Step, ...], tuple[Filter, ...]]:
+    """Greedy join order: anchor first, then the atom with most bound positions."""
+    bound: set[str] = set()
+    remaining = list(range(len(rule.body)))
+    order: list[int] = []
+    if anchor is not None:
+        order.append(anchor)
+        remaining.remove(anchor)
+        bound |= {n for v, n in rule.body[anchor].terms if v}
+    while remaining:
+        def score(i: int) -> tuple:
+            terms = rule.body[i].terms
+            nbound = sum(1 for v, n in terms if not v or n in bound)
+            return (nbound == len(terms), nbound, not rule.body[i].rel.startswith("@type"), -i)
+        best = max(remaining, key=score)
+        remaining.remove(best)
+        order.append(best)
+        bound |= {n for v, n in rule.body[best].terms if v}
+    pending = list(rule.filters)
+    initial = tuple(f for f in pending if not any(v for v, _ in f.terms))
+    pending = [f for f in pending if f not in initial]
+    steps: list[_Step] = []
+    known: set[str] = set()
+    for i in order:
+        pat = rule.body[i]
+        bpos, binds, checks, seen_new = [], [], [], set()
+        for pos, (is_var, name) in enumerate(pat.terms):
+            if not is_var or name in known:
+                bpos.append(pos)
+            elif name in seen_new:
+                checks.append((pos, name))
+            else:
+                binds.append((pos, name))
+                seen_new.add(name)
+        known |= seen_new
+        ready = tuple(f for f in pending if all(n in known for v, n in f.terms if v))
+        pending = [f for f in pending if f not in ready]
+        steps.append(_Step(pat, tuple(bpos), tuple(pat.terms[p] for p in bpos), tuple(binds),
+                           tuple(checks), len(bpos) == len(pat.terms), ready))
+    return tuple(steps), initial
+
+
+def _value(term: tuple[bool, str], env: Env) -> str:
+    return env[term[1]] if term[0] else term[1]
+
+
+class RuleRunner:
+    """Evaluates one rule, fully or anchored on delta facts, calling ``emit(env)``."""
+
+    def __init__(self, rule: Rule, static_holds: Callable[[str, tuple[str, ...]], bool]):
+        self.rule = rule
+        self.static_holds = static_holds
+        self._plans: dict[int | None, tuple] = {}
+
+    def plan(self, anchor: int | None) -> tuple:
+        p = self._plans.get(anchor)
+        if p is None:
+            p = self._plans[anchor] = _plan(self.rule, anchor)
+        return p
+
+    def check(self, f: Filter, env: Env) -> bool:
+        if f.kind == "eq":
+            return _value(f.terms[0], env) == _value(f.terms[1], env)
+        if f.kind == "neq":
+            return _value(f.terms[0], env) != _value(f.terms[1], env)
+        return not self.static_holds(f.rel, tuple(_value(t, env) for t in f.terms))
+
+    def run(self, kb: FactBase, emit: Callable[[Env], None], anchor: int | None = None,
+            delta: Iterable[tuple] = ()) -> None:
+        steps, initial = self.plan(anchor)
+        env: Env = {}
+        if not all(self.check(f, env) for f in initial):
+            return
+        if anchor is None:
+            self._join(kb, steps, 0, env, emit)
+            return
+        first = steps[0]
+        for tup in delta:
+            if self._match(first, tup, env):
+                self._join(kb, steps, 1, env, emit)
+
+    def _match(self, step: _Step, tup: tuple, env: Env) -> bool:
+        for pos, (is_var, name) in zip(step.bound, step.key_terms):
+            if tup[pos] != (env[name] if is_var else name):
+                return False
+        for pos, name in step.binds:
+            env[name] = tup[pos]
+        for pos, name in step.checks:
+            if tup[pos] != env[name]:
+                return False
+        return all(self.check(f, env) for f in step.filters)
+
+    def _join(self, kb: FactBase, steps: tuple[_Step, ...], k: int, env: Env,
+              emit: Callable[[Env], None]) -> None:
+        if k == len(steps):
+            emit(env)
+            return
+        step = steps[k]
+        key = tuple(env[n] if v else n for v, n in step.key_terms)
+        if step.full:
+            if key in kb.relation(step.pattern.rel) and \
+                    all(self.check(f, env) for f in step.filters):
+                self._join(kb, steps, k + 1, env, emit)
+            return
+        candidates = kb.lookup(step.pattern.rel, step.bound, key) if step.bound \
+            else list(kb.relation(step.pattern.rel))
+        for tup in candidates:
+            if self._match(step, tup, env):
+                self._join(kb, steps, k + 1, env, emit)
+
+
+def head_tuple(rule: Rule, env: Env) -> tuple[str, ...]:
+    return tuple(env[n] if v else n for v, n in rule.head_terms)
+
+
+def fixpoint(kb: FactBase, rules: list[Rule], static_holds: Callable,
+             on_head: Callable[[Rule, tuple[str, ...], list], None]) -> None:
+    """Run ``rules`` to a fixpoint. ``on_head(rule, head, pending)`` appends the facts
+    a derived head produces to ``pending`` as (relation, tuple) pairs."""
+    runners = [RuleRunner(r, static_holds) for r in rules]
+    by_rel: dict[str, list[tuple[RuleRunner, int]]] = {}
+    for runner in runners:
+        for i, pat in enumerate(runner.rule.body):
+            by_rel.setdefault(pat.rel, []).append((runner, i))
+    pending: list[tuple[str, tuple[str, ...]]] = []
+    for runner in runners:
+        _run_collect(runner, kb, on_head, pending, None, ())
+    while pending:
+        delta: dict[str, list[tuple]] = {}
+        for rel, tup in pending:
+            if kb.add(rel, tup):
+                delta.setdefault(rel, []).append(tup)
+        pending = []
+        for rel, tuples in delta.items():
+            for runner, i in by_rel.get(rel, ()):
+                _run_collect(runner, kb, on_head, pending, i, tuples)
+
+
+def _run_collect(runner: RuleRunner, kb: FactBase, on_head: Callable, pending: list,
+                 anchor: int | None, delta: Iterable[tuple]) -> None:
+    seen: set[tuple[str, ...]] = set()
+    rule = runner.rule
+    existing = kb.relation(rule.head_rel)
+
+    def emit(env: Env) -> None:
+        head = head_tuple(rule, env)
+        if head not in seen and head not in existing:
+            seen.add(head)
+            on_head(rule, head, pending)
+
+    runner.run(kb, emit, anchor, delta)

@@ -1,0 +1,92 @@
+"""JSON codec for lifted domains, problems and models (built on :mod:`json_lifted`)."""
+
+from __future__ import annotations
+
+from stampc.ir import lifted as L
+from stampc.ir.json_lifted import (
+    J, _with_span, action_from, action_to, atom_from, atom_to, binding_from, binding_to,
+    formula_from, formula_to, frac_from, frac_to, generator_from, generator_to, pairs_from,
+    pairs_to, params_from, params_to, span_from)
+
+
+def _object_to(o: L.Object) -> J:
+    return _with_span({"name": o.name, "type": o.type, "symbolic": o.symbolic}, o.span)
+
+
+def _object_from(x: J) -> L.Object:
+    return L.Object(str(x["name"]), str(x["type"]), bool(x.get("symbolic", False)),
+                    span_from(x.get("span")))
+
+
+def domain_to(d: L.Domain) -> J:
+    return _with_span({
+        "name": d.name,
+        "types": [_with_span({"name": t.name, "parent": t.parent, "continuous": t.continuous},
+                             t.span) for t in d.types],
+        "constants": [_object_to(o) for o in d.constants],
+        "predicates": [_with_span({"name": p.name, "params": params_to(p.params),
+                                   "static": p.static, "unknowable": p.unknowable,
+                                   "optimistic": p.optimistic}, p.span)
+                       for p in d.predicates],
+        "functions": [_with_span({"name": f.name, "params": params_to(f.params)}, f.span)
+                      for f in d.functions],
+        "actions": [action_to(a) for a in d.actions],
+        "generators": [generator_to(g) for g in d.generators],
+        "evaluators": [_with_span({"predicate": e.predicate, "binding": binding_to(e.binding)},
+                                  e.span) for e in d.evaluators],
+        "requirements": list(d.requirements)}, d.span)
+
+
+def domain_from(x: J) -> L.Domain:
+    return L.Domain(
+        name=str(x["name"]),
+        types=tuple(L.Type(str(t["name"]), t.get("parent"), bool(t.get("continuous", False)),
+                           span_from(t.get("span"))) for t in x["types"]),
+        constants=tuple(_object_from(o) for o in x["constants"]),
+        predicates=tuple(L.Predicate(str(p["name"]), params_from(p["params"]),
+                                     bool(p.get("static", False)),
+                                     bool(p.get("unknowable", False)),
+                                     bool(p.get("optimistic", False)),
+                                     span_from(p.get("span"))) for p in x["predicates"]),
+        functions=tuple(L.Function(str(f["name"]), params_from(f["params"]),
+                                   span_from(f.get("span"))) for f in x["functions"]),
+        actions=tuple(action_from(a) for a in x["actions"]),
+        generators=tuple(generator_from(g) for g in x.get("generators", ())),
+        evaluators=tuple(L.Evaluator(str(e["predicate"]), binding_from(e["binding"]),
+                                     span_from(e.get("span")))
+                         for e in x.get("evaluators", ())),
+        requirements=tuple(str(r) for r in x.get("requirements", ())),
+        span=span_from(x.get("span")))
+
+
+def problem_to(p: L.Problem) -> J:
+    scene = None if p.scene is None else _with_span(
+        {"kind": p.scene.kind, "target": p.scene.target, "args": pairs_to(p.scene.args)},
+        p.scene.span)
+    return _with_span({
+        "name": p.name, "domain": p.domain,
+        "objects": [_object_to(o) for o in p.objects],
+        "init": [atom_to(a) for a in p.init],
+        "init_values": [[atom_to(a), frac_to(v)] for a, v in p.init_values],
+        "goal": formula_to(p.goal), "horizon": p.horizon, "scene": scene,
+        "goal_reward": None if p.goal_reward is None else frac_to(p.goal_reward),
+        "metric": p.metric}, p.span)
+
+
+def problem_from(x: J) -> L.Problem:
+    s = x.get("scene")
+    scene = None if s is None else L.SceneRef(str(s["kind"]), str(s["target"]),
+                                              pairs_from(s.get("args", [])),
+                                              span_from(s.get("span")))
+    horizon = x.get("horizon")
+    if horizon is not None and (isinstance(horizon, bool) or not isinstance(horizon, int)):
+        raise TypeError(f"horizon must be an integer, got {horizon!r}")
+    reward = x.get("goal_reward")
+    return L.Problem(
+        name=str(x["name"]), domain=str(x["domain"]),
+        objects=tuple(_object_from(o) for o in x["objects"]),
+        init=tuple(atom_from(a) for a in x["init"]),
+        init_values=tuple((atom_from(a), frac_from(v)) for a, v in x.get("init_values", ())),
+        goal=formula_from(x["goal"]), horizon=horizon, scene=scene,
+        goal_reward=None if reward is None else frac_from(reward),
+        metric=x.get("metric"), span=span_from(x.get("span")))

@@ -1,0 +1,138 @@
+"""``solve``: option checking, warm starts and algorithm dispatch."""
+
+from __future__ import annotations
+
+import math
+import time
+
+from stampc.diagnostics import Span, StampcError, error
+from stampc.ir.grounded import GroundModel
+from stampc.solvers.core import Search, SolverTimeout
+from stampc.solvers.heuristics import HEURISTICS, make_heuristic
+from stampc.solvers.lao import lao
+from stampc.solvers.lrtdp import lrtdp
+from stampc.solvers.solution import ALGORITHMS, Solution, SolverOptions
+from stampc.solvers.space import Space
+from stampc.solvers.successors import SuccessorCache
+from stampc.solvers.vi import value_iteration
+
+_OPTIONS_SPAN = Span.point("<solver options>")
+
+
+def check_options(options: SolverOptions) -> None:
+    """Raise ``StampcError`` (codes S0xx) for option values no solver accepts."""
+    problems = []
+    if options.algorithm not in ALGORITHMS:
+        problems.append(error("S001", f"unknown algorithm {options.algorithm!r}", _OPTIONS_SPAN,
+                              hint=f"choose one of {', '.join(ALGORITHMS)}"))
+    if options.heuristic not in HEURISTICS:
+        problems.append(error("S002", f"unknown heuristic {options.heuristic!r}", _OPTIONS_SPAN,
+                              hint=f"choose one of {', '.join(HEURISTICS)}"))
+    if not (options.epsilon > 0 and math.isfinite(options.epsilon)):
+        problems.append(error("S003", f"epsilon must be a positive number, got {options.epsilon}",
+                              _OPTIONS_SPAN))
+    if not (options.dead_end_cost > 0 and math.isfinite(options.dead_end_cost)):
+        problems.append(error("S004", "dead-end cost must be a positive finite number, "
+                                      f"got {options.dead_end_cost}", _OPTIONS_SPAN))
+    if options.horizon is not None and options.horizon < 0:
+        problems.append(error("S005", f"horizon must be >= 0, got {options.horizon}", _OPTIONS_SPAN))
+    if options.time_limit is not None and not options.time_limit > 0:
+        problems.append(error("S006", f"time limit must be positive, got {options.time_limit}",
+                              _OPTIONS_SPAN))
+    if problems:
+        raise StampcError(problems)
+
+
+def _compatible(warm: Solution, model: GroundModel, options: SolverOptions,
+                horizon: int | None) -> bool:
+    """Can ``warm``'s tables seed a solve of ``model`` with ``options``?
+
+    Values stay admissible lower bounds when the cost convention, dead-end cost, horizon
+    and heuristic are unchanged and no previously banned action is allowed again (banning
+    more actions can only raise optimal values).
+    """
+    w = warm.options
+    return (warm.search is not None and warm.search.space.cache.model is model
+            and w.unit_cost == options.unit_cost and w.dead_end_cost == options.dead_end_cost
+            and warm.horizon == horizon and w.heuristic == options.heuristic
+            and w.forbidden <= options.forbidden)
+
+
+def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None,
+                 warm: Solution | None) -> Search:
+    if warm is not None and _compatible(warm, model, options, horizon):
+        old = warm.search
+        if warm.options.forbidden == options.forbidden:
+            # Same transitions: continue from a copy of the whole table set.
+            search = Search(old.space, options.time_limit)
+            search.V = dict(old.V)
+            search.best = dict(old.best)
+            search.terminal = set(old.terminal)
+            search.expanded = dict(old.expanded)
+            search.guide = old.guide
+            return search
+        cache, h = old.space.cache, old.space.h
+        warm_values = dict(old.V)
+    else:
+        cache = SuccessorCache(model, options.unit_cost)
+        h = make_heuristic(options.heuristic, model, options.unit_cost)
+        warm_values = None
+    guide = steps = None
+    if horizon is not None:
+        steps = h if options.unit_cost and options.heuristic == "hmax" else \
+            make_heuristic("hmax", model, True)
+        if options.algorithm != "vi":  # VI enumerates everything: no use for a guide
+            guide = Search(Space(cache, h, options.dead_end_cost, None, options.forbidden))
+    space = Space(cache, h, options.dead_end_cost, horizon, options.forbidden,
+                  warm=warm_values, guide=guide.V if guide else None, steps=steps)
+    search = Search(space, options.time_limit)
+    search.guide = guide
+    return search
+
+
+def _run_guide(search: Search, state: int, epsilon: float) -> None:
+    """Solve the stationary SSP from ``state`` (LAO*) to seed a finite-horizon search."""
+    guide = search.guide
+    if guide is None:
+        return
+    guide.deadline = search.deadline
+    lao(guide, state, epsilon)
+
+
+def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
+          init: int | None = None, warm: Solution | None = None) -> Solution:
+    """Solve the SSP of ``model`` from ``init`` (default ``model.init``).
+
+    ``warm`` reuses the value tables of a previous solution on the same model where they
+    are still valid lower bounds (see :func:`_compatible`), which makes re-solving from a
+    state with newly learned facts cheap.
+    """
+    check_options(options)
+    start = time.perf_counter()
+    horizon = options.horizon if options.horizon is not None else model.horizon
+    search = _make_search(model, options, horizon, warm)
+    state = model.init if init is None else init
+    x0 = search.space.node(state, 0)
+    guide_before = len(search.guide.expanded) if search.guide else 0
+    expanded_before = len(search.expanded) + guide_before
+    converged = True
+    try:
+        search.seed(x0)
+        if x0 not in search.terminal:
+            _run_guide(search, state, options.epsilon)
+        if options.algorithm == "lao":
+            lao(search, x0, options.epsilon)
+        elif options.algorithm == "lrtdp":
+            lrtdp(search, x0, options.epsilon, options.seed)
+        else:
+            value_iteration(search, x0, options.epsilon)
+    except SolverTimeout:
+        converged = False
+    search.seed(x0)
+    goal_probability = search.goal_probability(x0)
+    expanded = len(search.expanded) + (len(search.guide.expanded) if search.guide else 0)
+    elapsed = time.perf_counter() - start
+    return Solution(init=state, expected_cost=search.V[x0], goal_probability=goal_probability,
+                    states_expanded=expanded - expanded_before, solve_time_s=elapsed,
+                    converged=converged, options=options, horizon=horizon, search=search)
+

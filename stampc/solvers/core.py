@@ -1,0 +1,141 @@
+"""Value tables and Bellman backups shared by LAO*, LRTDP and VI.
+
+``Search`` owns the sparse tables: ``V`` (node -> value; every node ever generated has
+one), ``best`` (node -> index into its transitions, ``-1`` = give up), ``terminal`` and
+``expanded`` (node -> its transitions). A node is expanded once: its transitions are
+generated and every successor gets an initial value (terminal value, heuristic, or
+warm-start value). The algorithms read ``expanded[x]`` directly in their inner loops.
+"""
+
+from __future__ import annotations
+
+import time
+
+from stampc.solvers.space import Space
+from stampc.solvers.successors import Transition
+
+
+class SolverTimeout(Exception):
+    """Internal: the time limit was reached (the caller returns ``converged=False``)."""
+
+
+class Search:
+    def __init__(self, space: Space, time_limit: float | None = None):
+        self.space = space
+        self.dead_end_cost = space.dead_end_cost
+        self.V: dict[int, float] = {}
+        self.best: dict[int, int] = {}
+        self.terminal: set[int] = set()
+        self.expanded: dict[int, tuple[Transition, ...]] = {}
+        #: Finite horizon: the stationary search whose values guide this one.
+        self.guide: Search | None = None
+        #: LAO* passes / LRTDP trials / VI sweeps run so far (statistics only).
+        self.iterations = 0
+        self.deadline = None if time_limit is None else time.perf_counter() + time_limit
+
+    def check_time(self) -> None:
+        if self.deadline is not None and time.perf_counter() > self.deadline:
+            raise SolverTimeout()
+
+    def seed(self, node: int) -> None:
+        """Give ``node`` its initial value if it has none yet."""
+        if node not in self.V:
+            v, term = self.space.initial_value(node)
+            self.V[node] = v
+            if term:
+                self.terminal.add(node)
+
+    def expand(self, node: int) -> None:
+        V = self.V
+        initial_value = self.space.initial_value
+        terminal = self.terminal
+        trans = self.space.transitions(node)
+        for _, _, _, nexts in trans:
+            for n in nexts:
+                if n not in V:
+                    v, term = initial_value(n)
+                    V[n] = v
+                    if term:
+                        terminal.add(n)
+        self.expanded[node] = trans
+        if not trans:  # no applicable action: a dead end
+            V[node] = self.dead_end_cost
+            self.best[node] = -1
+            terminal.add(node)
+
+    def backup(self, node: int) -> float:
+        """Bellman backup of an expanded node; returns |change|."""
+        V = self.V
+        bq = self.dead_end_cost
+        bi = -1
+        for i, (_, c, probs, nexts) in enumerate(self.expanded[node]):
+            q = c
+            for p, n in zip(probs, nexts):
+                q += p * V[n]
+            if q < bq:
+                bq, bi = q, i
+        old = V[node]
+        V[node] = bq
+        self.best[node] = bi
+        return bq - old if bq > old else old - bq
+
+    def greedy(self, node: int) -> tuple[float, int]:
+        """(min capped Q, transition index or -1) without storing anything."""
+        V = self.V
+        bq = self.dead_end_cost
+        bi = -1
+        for i, (_, c, probs, nexts) in enumerate(self.expanded[node]):
+            q = c
+            for p, n in zip(probs, nexts):
+                q += p * V[n]
+            if q < bq:
+                bq, bi = q, i
+        return bq, bi
+
+    def successors(self, node: int) -> tuple[int, ...]:
+        """Next nodes under the greedy choice (none when giving up / terminal)."""
+        bi = self.best.get(node, -1)
+        if bi < 0 or node in self.terminal:
+            return ()
+        return self.expanded[node][bi][3]
+
+    # ----------------------------------------------------------- analysis
+    def policy_graph(self, init: int) -> list[int]:
+        """Nodes reachable from ``init`` under the greedy policy, DFS preorder."""
+        order = [init]
+        seen = {init}
+        stack = [init]
+        while stack:
+            x = stack.pop()
+            for n in self.successors(x):
+                if n not in seen:
+                    seen.add(n)
+                    order.append(n)
+                    stack.append(n)
+        return order
+
+    def goal_probability(self, init: int, tolerance: float = 1e-12,
+                         max_sweeps: int = 100_000) -> float:
+        """Probability of reaching a goal node from ``init`` under the greedy policy."""
+        nodes = self.policy_graph(init)
+        is_goal = self.space.cache.is_goal
+        P = {x: 1.0 if x in self.terminal and is_goal(self.space.state(x)) else 0.0
+             for x in nodes}
+        inner = [x for x in reversed(nodes) if self.best.get(x, -1) >= 0 and x not in self.terminal]
+        rows = []
+        for x in inner:
+            _, _, probs, nexts = self.expanded[x][self.best[x]]
+            rows.append((x, probs, nexts))
+        for _ in range(max_sweeps):
+            change = 0.0
+            for x, probs, nexts in rows:
+                v = 0.0
+                for p, n in zip(probs, nexts):
+                    v += p * P[n]
+                d = v - P[x]
+                if d > change:
+                    change = d
+                P[x] = v
+            if change < tolerance:
+                break
+        return min(1.0, P[init])

@@ -1,0 +1,109 @@
+"""Policy export: JSON (state -> action label over the policy graph) and Graphviz DOT."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict
+
+from stampc.ir.grounded import GroundModel
+from stampc.solvers.solution import Solution
+
+POLICY_FORMAT = "stampc-policy"
+POLICY_VERSION = 1
+
+
+def _facts(model: GroundModel, state: int) -> list[str]:
+    return [str(f) for f in model.state_facts(state)]
+
+
+def _status(model: GroundModel, solution: Solution, state: int, t: int,
+            action: int | None) -> str:
+    if model.is_goal(state):
+        return "goal"
+    if solution.horizon is not None and t >= solution.horizon:
+        return "horizon"
+    return "dead_end" if action is None else "act"
+
+
+def policy_entries(model: GroundModel, solution: Solution) -> list[dict]:
+    """One entry per (state, t) of the policy graph reachable from ``solution.init``."""
+    entries = []
+    for state, t in solution.policy_nodes():
+        action = solution.action(state, t)
+        entry = {"state": _facts(model, state),
+                 "action": None if action is None else model.actions[action].label,
+                 "status": _status(model, solution, state, t, action),
+                 "value": solution.value(state, t)}
+        if solution.horizon is not None:
+            entry["t"] = t
+        entries.append(entry)
+    return entries
+
+
+def summary(solution: Solution) -> dict:
+    return {"expected_cost": solution.expected_cost,
+            "goal_probability": solution.goal_probability,
+            "states_expanded": solution.states_expanded,
+            "states_generated": solution.states_generated,
+            "solve_time_s": solution.solve_time_s,
+            "converged": solution.converged,
+            "horizon": solution.horizon,
+            "options": {k: v for k, v in asdict(solution.options).items() if k != "forbidden"}}
+
+
+def policy_json(model: GroundModel, solution: Solution) -> dict:
+    return {"format": POLICY_FORMAT, "version": POLICY_VERSION, **summary(solution),
+            "init": _facts(model, solution.init),
+            "policy": policy_entries(model, solution)}
+
+
+def write_policy_json(path: str, model: GroundModel, solution: Solution) -> None:
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(policy_json(model, solution), fh, indent=1)
+        fh.write("\n")
+
+
+def _escape(text: str) -> str:
+    return text.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def _quote(text: str) -> str:
+    return '"' + _escape(text) + '"'
+
+
+def policy_dot(model: GroundModel, solution: Solution, max_facts: int = 12) -> str:
+    """The policy graph: one node per (state, t), edges labelled with action and outcome
+    probability; goal nodes double-circled, dead ends / horizon nodes boxed."""
+    nodes = solution.policy_nodes()
+    ids = {key: f"n{i}" for i, key in enumerate(nodes)}
+    lines = ["digraph policy {", "  rankdir=LR;", '  node [fontsize=10, shape=ellipse];']
+    for (state, t), nid in ids.items():
+        action = solution.action(state, t)
+        status = _status(model, solution, state, t, action)
+        facts = _facts(model, state)
+        shown = facts[:max_facts] + (["..."] if len(facts) > max_facts else [])
+        shown.append(f"V={solution.value(state, t):.4g}"
+                     + (f" t={t}" if solution.horizon is not None else ""))
+        label = "\\n".join(_escape(line) for line in shown)  # DOT line breaks
+        shape = {"goal": "doublecircle", "dead_end": "box", "horizon": "box"}.get(status)
+        attrs = f'label="{label}"' + (f", shape={shape}" if shape else "")
+        lines.append(f"  {nid} [{attrs}];")
+        if status != "act":
+            continue
+        probs: dict[tuple[int, int], float] = {}
+        for o in model.actions[action].outcomes(state):
+            key = (o.apply(state), t + 1 if solution.horizon is not None else 0)
+            probs[key] = probs.get(key, 0.0) + float(o.probability)
+        for key, p in probs.items():
+            target = ids.get(key)
+            if target is None:
+                continue  # only when the solve stopped early (time limit)
+            text = f"{model.actions[action].label} p={p:.3g}"
+            lines.append(f"  {nid} -> {target} [label={_quote(text)}];")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def write_policy_dot(path: str, model: GroundModel, solution: Solution) -> None:
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(policy_dot(model, solution))

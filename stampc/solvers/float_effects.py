@@ -1,0 +1,51 @@
+"""Float enumeration of state-dependent (conditional) effects for the solvers' hot path.
+
+``GroundAction.outcomes(state)`` enumerates joint outcomes exactly, with ``Fraction``
+arithmetic; on domains whose actions carry ``when`` effects (boxworld, schedule) that is
+called for every (state, action) pair and dominates solve time. Solvers only need the
+distribution over next states, so they use this float version of the same semantics
+(conditions read in the old state, deletes before adds, a probabilistic block's missing
+mass is a no-op); the exact enumeration stays the reference for policy trees.
+"""
+
+from __future__ import annotations
+
+from stampc.ir.grounded import GEffect, GroundCondition
+
+#: (add, delete, cost, whens, blocks); blocks are (no-op mass, ((p, sub-effect), ...)).
+FloatEffect = tuple
+
+
+def compile_effect(effect: GEffect, unit_cost: bool) -> FloatEffect:
+    whens = tuple((cond, compile_effect(sub, unit_cost))
+                  for cond, sub in effect.whens if not cond.never)
+    blocks = tuple((float(1 - sum(p for p, _ in block.outcomes)),
+                    tuple((float(p), compile_effect(sub, unit_cost)) for p, sub in block.outcomes))
+                   for block in effect.blocks)
+    return (effect.add, effect.delete, 0.0 if unit_cost else float(effect.cost), whens, blocks)
+
+
+def _product(left: list, right: list) -> list:
+    return [(p * q, a1 | a2, d1 | d2, c1 + c2)
+            for p, a1, d1, c1 in left for q, a2, d2, c2 in right if p * q > 0]
+
+
+def branches(effect: FloatEffect, state: int) -> list[tuple[float, int, int, float]]:
+    """Joint outcomes (probability, adds, deletes, cost) of ``effect`` in ``state``."""
+    add, delete, cost, whens, blocks = effect
+    result = [(1.0, add, delete, cost)]
+    for cond, sub in whens:
+        if _holds(cond, state):
+            result = _product(result, branches(sub, state))
+    for rest, outcomes in blocks:
+        options = [(p * q, a, d, c) for p, sub in outcomes for q, a, d, c in branches(sub, state)]
+        if rest > 0:
+            options.append((rest, 0, 0, 0.0))
+        result = _product(result, options)
+    return result
+
+
+def _holds(cond: GroundCondition, state: int) -> bool:
+    if (state & cond.pos) != cond.pos or (state & cond.neg):
+        return False
+    return not cond.rest or cond.holds(state)

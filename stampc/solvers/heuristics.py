@@ -1,0 +1,214 @@
+"""Heuristics over the delete relaxation of the all-outcomes determinization.
+
+Every outcome of every action (and every conditional effect with its condition) becomes a
+relaxed action whose precondition is the action's positive precondition facts (plus the
+``when`` condition's) and whose effect is that outcome's adds. Negative conditions and
+deletes are ignored, disjunctions contribute nothing — all of which only lowers costs.
+
+- ``zero``: 0 everywhere (admissible).
+- ``hmax``: max over preconditions (admissible when costs are non-negative).
+- ``hadd``: sum over preconditions — INADMISSIBLE, usually much more informed; LAO* and
+  LRTDP then return fast but possibly suboptimal policies.
+
+A state whose relaxation cannot reach the goal is a dead end (value ``inf``), for every
+heuristic except ``zero``. Values are cached per state.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from fractions import Fraction
+from typing import Callable
+
+from stampc.ir.grounded import GAnd, GEffect, GFormula, GLit, GroundCondition, GroundModel
+from stampc.solvers.successors import iter_bits
+
+HEURISTICS = ("zero", "hmax", "hadd")
+ADMISSIBLE = {"zero": True, "hmax": True, "hadd": False}
+
+Heuristic = Callable[[int], float]
+
+
+def _must_facts(formulas: tuple[GFormula, ...]) -> set[int]:
+    """Positive facts every model of the conjunction ``formulas`` must contain."""
+    facts: set[int] = set()
+    for f in formulas:
+        if isinstance(f, GLit):
+            if f.positive:
+                facts.add(f.fact)
+        elif isinstance(f, GAnd):
+            facts |= _must_facts(f.args)
+    return facts
+
+
+def condition_facts(cond: GroundCondition) -> frozenset[int]:
+    return frozenset(set(iter_bits(cond.pos)) | _must_facts(cond.rest))
+
+
+def _min_cost(effect: GEffect) -> Fraction:
+    """A lower bound on the cost contributed by ``effect`` in any joint outcome."""
+    total = effect.cost
+    for _, sub in effect.whens:
+        total += min(Fraction(0), _min_cost(sub))
+    for block in effect.blocks:
+        options = [_min_cost(sub) for _, sub in block.outcomes]
+        if sum(p for p, _ in block.outcomes) < 1:
+            options.append(Fraction(0))
+        total += min(options)
+    return total
+
+
+def _relaxed_adds(effect: GEffect, pre: frozenset[int], out: dict) -> None:
+    """Collect (precondition facts -> added facts) pairs of every outcome of ``effect``."""
+    if effect.add:
+        out.setdefault(pre, 0)
+        out[pre] |= effect.add
+    for cond, sub in effect.whens:
+        if not cond.never:
+            _relaxed_adds(sub, pre | condition_facts(cond), out)
+    for block in effect.blocks:
+        for _, sub in block.outcomes:
+            _relaxed_adds(sub, pre, out)
+
+
+class RelaxedModel:
+    """Relaxed actions in flat arrays: preconditions, adds, costs, and fact -> actions."""
+
+    def __init__(self, model: GroundModel, unit_cost: bool):
+        # Relaxed actions with the same precondition facts and cost are merged (their adds
+        # OR-ed): exact for h_max and h_add, and far fewer counters to maintain per state.
+        merged: dict[tuple[frozenset[int], float], int] = {}
+        pre_cache: dict[GroundCondition, frozenset[int]] = {}
+        for action in model.actions:
+            if action.precondition.never:
+                continue
+            cost = 1.0 if unit_cost else max(0.0, float(action.base_cost + _min_cost(action.effect)))
+            pairs: dict[frozenset[int], int] = {}
+            pre_facts = pre_cache.get(action.precondition)
+            if pre_facts is None:
+                pre_facts = pre_cache[action.precondition] = condition_facts(action.precondition)
+            _relaxed_adds(action.effect, pre_facts, pairs)
+            for pre, add in pairs.items():
+                key = (pre, cost)
+                merged[key] = merged.get(key, 0) | add
+        pres = [tuple(sorted(pre)) for pre, _ in merged]
+        costs = [cost for _, cost in merged]
+        adds = [tuple(iter_bits(add)) for add in merged.values()]
+        self.pres, self.adds, self.costs = pres, adds, costs
+        self.add_masks = list(merged.values())
+        #: The common cost when all relaxed actions cost the same (layered h_max applies).
+        self.uniform_cost = costs[0] if costs and all(c == costs[0] for c in costs) else None
+        self.counts = [len(p) for p in pres]
+        self.free = [i for i, p in enumerate(pres) if not p]
+        self.users: list[list[int]] = [[] for _ in model.facts]
+        for i, pre in enumerate(pres):
+            for f in pre:
+                self.users[f].append(i)
+        goal = model.goal
+        self.goal_never = goal.never
+        self.goal_facts = tuple(sorted(condition_facts(goal)))
+        self.goal_mask = sum(1 << g for g in self.goal_facts)
+
+
+def _hmax_layered(rm: RelaxedModel, state: int, unit: float) -> float:
+    """h_max when every relaxed action costs ``unit``: breadth-first over fact layers
+    (facts as bitmasks), stopping at the first layer that contains the goal."""
+    goal = rm.goal_mask
+    reached = state
+    if reached & goal == goal:
+        return 0.0
+    counts = rm.counts.copy()
+    users, add_masks = rm.users, rm.add_masks
+    new = 0
+    for i in rm.free:
+        new |= add_masks[i]
+    frontier = state
+    level = 0
+    while True:
+        while frontier:
+            low = frontier & -frontier
+            frontier ^= low
+            for i in users[low.bit_length() - 1]:
+                c = counts[i] - 1
+                counts[i] = c
+                if not c:
+                    new |= add_masks[i]
+        new &= ~reached
+        if not new:
+            return math.inf
+        level += 1
+        reached |= new
+        if reached & goal == goal:
+            return level * unit
+        frontier, new = new, 0
+
+
+def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
+    """Generalised Dijkstra over facts; stops once every goal fact is settled."""
+    if rm.goal_never:
+        return math.inf
+    if not additive and rm.uniform_cost is not None and rm.uniform_cost > 0:
+        return _hmax_layered(rm, state, rm.uniform_cost)
+    goal = rm.goal_facts
+    remaining = sum(1 for g in goal if not (state >> g) & 1)
+    if remaining == 0:
+        return 0.0
+    counts = rm.counts.copy()
+    pres, adds, costs, users = rm.pres, rm.adds, rm.costs, rm.users
+    best: dict[int, float] = {}
+    heap: list[tuple[float, int]] = []
+    for f in iter_bits(state):
+        best[f] = 0.0
+        heap.append((0.0, f))
+    for i in rm.free:
+        for g in adds[i]:
+            if costs[i] < best.get(g, math.inf):
+                best[g] = costs[i]
+                heap.append((costs[i], g))
+    heapq.heapify(heap)
+    goal_set = set(goal)
+    done: set[int] = set()
+    total = 0.0
+    while heap:
+        c, f = heapq.heappop(heap)
+        if f in done:
+            continue
+        done.add(f)
+        if f in goal_set and not (state >> f) & 1:
+            total = total + c if additive else c
+            remaining -= 1
+            if remaining == 0:
+                return total
+        for i in users[f]:
+            counts[i] -= 1
+            if counts[i]:
+                continue
+            if additive:
+                base = sum(best[p] for p in pres[i]) + costs[i]
+            else:
+                base = c + costs[i]  # settled in non-decreasing order: c is the max
+            for g in adds[i]:
+                if base < best.get(g, math.inf):
+                    best[g] = base
+                    heapq.heappush(heap, (base, g))
+    return math.inf
+
+
+def make_heuristic(name: str, model: GroundModel, unit_cost: bool) -> Heuristic:
+    """A cached state -> cost-to-go estimate (``inf`` marks a recognised dead end)."""
+    if name == "zero":
+        return lambda state: 0.0
+    if name not in ("hmax", "hadd"):
+        raise ValueError(f"unknown heuristic {name!r}; choose one of {', '.join(HEURISTICS)}")
+    rm = RelaxedModel(model, unit_cost)
+    additive = name == "hadd"
+    cache: dict[int, float] = {}
+
+    def h(state: int) -> float:
+        v = cache.get(state)
+        if v is None:
+            v = cache[state] = _relaxed_cost(rm, state, additive)
+        return v
+
+    return h

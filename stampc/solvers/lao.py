@@ -1,0 +1,74 @@
+"""Improved LAO* (Hansen & Zilberstein 2001).
+
+Each pass walks the best partial solution graph depth-first from the initial node,
+expands the unexpanded tips it meets (backing them up at once) and backs up every
+interior node in postorder, so values flow from the tips towards the root within a single
+pass. The search stops after a pass that expanded nothing, changed no greedy action and
+whose largest Bellman residual is below ε.
+"""
+
+from __future__ import annotations
+
+from stampc.solvers.core import Search
+
+_TIME_CHECK_EVERY = 256
+
+
+def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
+    """Run ILAO* from ``init``; raises ``SolverTimeout`` past the deadline.
+
+    With ``dive`` a freshly expanded tip whose backed-up value did not rise (its heuristic
+    estimate held) is explored further in the same pass instead of waiting for the next
+    one: fewer passes over the solution graph, without the blow-up of always diving.
+    """
+    search.seed(init)
+    V, best, terminal, expanded = search.V, search.best, search.terminal, search.expanded
+    D = search.dead_end_cost
+    while init not in terminal:
+        search.iterations += 1
+        expansions = 0
+        residual = 0.0
+        changed = False
+        visited = {init}
+        stack = [init]
+        while stack:
+            x = stack.pop()
+            if x < 0:  # post-visit marker: Bellman backup
+                x = -x - 1
+                bq = D
+                bi = -1
+                for i, (_, c, probs, nexts) in enumerate(expanded[x]):
+                    q = c
+                    for p, n in zip(probs, nexts):
+                        q += p * V[n]
+                    if q < bq:
+                        bq, bi = q, i
+                old = V[x]
+                d = bq - old if bq > old else old - bq
+                if d > residual:
+                    residual = d
+                if best[x] != bi:
+                    changed = True
+                    best[x] = bi
+                V[x] = bq
+                continue
+            if x not in expanded:
+                search.expand(x)
+                expansions += 1
+                if expansions % _TIME_CHECK_EVERY == 0:
+                    search.check_time()
+                if x in terminal:
+                    continue
+                if search.backup(x) > epsilon or not dive:
+                    continue  # the estimate rose: let the parents reconsider first
+            stack.append(-x - 1)
+            bi = best[x]
+            if bi >= 0:
+                for n in expanded[x][bi][3]:
+                    if n not in visited:
+                        visited.add(n)
+                        if n not in terminal:
+                            stack.append(n)
+        search.check_time()
+        if expansions == 0 and not changed and residual < epsilon:
+            return

@@ -1,0 +1,99 @@
+"""Seeded Monte Carlo simulation of a policy.
+
+A run's cost follows the solver's cost model, so its mean estimates the expected cost:
+the sum of action costs (unit or declared, as in ``solution.options``), plus the
+dead-end cost D when the run ends without reaching the goal (dead end, giving up,
+horizon reached, or ``max_steps`` exhausted).
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass
+
+from stampc.diagnostics import Span, StampcError, error
+from stampc.ir.grounded import GroundModel
+from stampc.solvers.solution import Solution
+
+_Z95 = 1.959963984540054
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    runs: int
+    seed: int
+    mean_cost: float
+    cost_ci95: tuple[float, float]
+    goal_rate: float
+    goal_rate_ci95: tuple[float, float]
+    mean_steps: float
+    truncated: int  # runs stopped by max_steps
+
+    @property
+    def cost_stderr(self) -> float:
+        return (self.cost_ci95[1] - self.cost_ci95[0]) / (2 * _Z95)
+
+
+def wilson_interval(successes: int, n: int, z: float = _Z95) -> tuple[float, float]:
+    """Wilson score interval for a binomial proportion (well-behaved at 0 and 1)."""
+    if n == 0:
+        return (0.0, 1.0)
+    p = successes / n
+    denom = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return (max(0.0, centre - half), min(1.0, centre + half))
+
+
+def _run(model: GroundModel, solution: Solution, rng: random.Random,
+         max_steps: int) -> tuple[float, bool, int, bool]:
+    cache = solution.search.space.cache
+    penalty = solution.search.dead_end_cost
+    horizon = solution.horizon
+    state, cost, t = solution.init, 0.0, 0
+    while True:
+        if cache.is_goal(state):
+            return cost, True, t, False
+        if t >= max_steps:
+            return cost + penalty, False, t, True
+        if horizon is not None and t >= horizon:
+            return cost + penalty, False, t, False
+        action = solution.action(state, t)
+        if action is None:
+            return cost + penalty, False, t, False
+        outcomes = cache.outcomes(state, action)
+        r = rng.random()
+        acc = 0.0
+        chosen = outcomes[-1]
+        for outcome in outcomes:
+            acc += outcome[0]
+            if r < acc:
+                chosen = outcome
+                break
+        _, state, c = chosen
+        cost += c
+        t += 1
+
+
+def simulate(model: GroundModel, solution: Solution, *, runs: int, seed: int,
+             max_steps: int = 1000) -> SimulationResult:
+    """Simulate ``runs`` executions of ``solution``'s policy from ``solution.init``."""
+    if runs <= 0:
+        raise StampcError([error("S007", f"number of simulation runs must be positive, got {runs}",
+                                 Span.point("<simulation options>"))])
+    rng = random.Random(seed)
+    costs: list[float] = []
+    goals = steps = truncated = 0
+    for _ in range(runs):
+        cost, reached, n, cut = _run(model, solution, rng, max_steps)
+        costs.append(cost)
+        goals += reached
+        steps += n
+        truncated += cut
+    mean = sum(costs) / runs
+    var = sum((c - mean) ** 2 for c in costs) / (runs - 1) if runs > 1 else 0.0
+    half = _Z95 * math.sqrt(var / runs)
+    return SimulationResult(runs=runs, seed=seed, mean_cost=mean, cost_ci95=(mean - half, mean + half),
+                            goal_rate=goals / runs, goal_rate_ci95=wilson_interval(goals, runs),
+                            mean_steps=steps / runs, truncated=truncated)

@@ -1,0 +1,91 @@
+"""Public solver types: options and solutions."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from stampc.solvers.core import Search
+from stampc.solvers.successors import SuccessorCache
+
+ALGORITHMS = ("lao", "lrtdp", "vi")
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    algorithm: str = "lao"        # "lao" | "lrtdp" | "vi"
+    heuristic: str = "hmax"       # "zero" | "hmax" | "hadd" (inadmissible)
+    epsilon: float = 1e-4
+    dead_end_cost: float = 500.0
+    unit_cost: bool = False
+    #: Finite horizon (time-indexed values, non-stationary policy); ``None`` uses the
+    #: model's own horizon, if any, else the indefinite-horizon SSP.
+    horizon: int | None = None
+    time_limit: float | None = None
+    seed: int = 0                 # LRTDP trials
+    #: (state, action index) pairs the policy must not use.
+    forbidden: frozenset[tuple[int, int]] = frozenset()
+
+
+@dataclass(frozen=True)
+class Solution:
+    init: int
+    expected_cost: float
+    goal_probability: float
+    states_expanded: int
+    solve_time_s: float
+    converged: bool
+    options: SolverOptions
+    #: The horizon actually used (options or model), ``None`` for the indefinite SSP.
+    horizon: int | None = None
+    #: The value tables; shared with warm re-solves (which copy before changing them).
+    search: Search | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def successors(self) -> SuccessorCache:
+        """The successor cache the solve used (shareable with the engine)."""
+        return self.search.space.cache
+
+    @property
+    def states_generated(self) -> int:
+        return len(self.search.V) if self.search else 0
+
+    def _node(self, state: int, t: int) -> int:
+        return self.search.space.node(state, t)
+
+    def action(self, state: int, t: int = 0) -> int | None:
+        """Greedy ground action index in ``state`` at step ``t``; ``None`` at a goal, a
+        dead end, the horizon, or where giving up (cost D) is best."""
+        if self.horizon is not None and t >= self.horizon:
+            return None
+        search = self.search
+        x = self._node(state, t)
+        search.seed(x)
+        if x in search.terminal:
+            return None
+        if x not in search.best:
+            # Off the solved graph (e.g. a state the engine reached by surprise, or a
+            # solve cut short): one-step lookahead on the current values, kept in the tables.
+            if x not in search.expanded:
+                search.expand(x)
+                if x in search.terminal:
+                    return None
+            search.backup(x)
+        bi = search.best[x]
+        if bi < 0:
+            return None
+        return search.expanded[x][bi][0]
+
+    def value(self, state: int, t: int = 0) -> float:
+        """Current value estimate (exact within ε on the solved policy graph)."""
+        search = self.search
+        if self.horizon is not None and t >= self.horizon:
+            return 0.0 if search.space.cache.is_goal(state) else search.dead_end_cost
+        x = self._node(state, t)
+        search.seed(x)
+        return search.V[x]
+
+    def policy_nodes(self) -> list[tuple[int, int]]:
+        """(state, t) pairs reachable from ``init`` under the policy, DFS preorder."""
+        space = self.search.space
+        return [(space.state(x), space.time(x))
+                for x in self.search.policy_graph(space.node(self.init, 0))]
