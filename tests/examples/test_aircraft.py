@@ -1,0 +1,130 @@
+"""Aircraft inspection on PyBullet end to end: refine to coverage 1.0, learn that the
+battery does not cover a leg, replay the refined policy in the concrete world."""
+
+from __future__ import annotations
+
+import random
+import re
+from pathlib import Path
+
+import pytest
+
+import stampc
+from examples.aircraft_inspection import scene as aircraft_scene
+from stampc.diagnostics import StampcError
+from stampc.refine import RefineOptions
+from stampc.refine.replay import replay
+from stampc.worlds.base import ConcreteAction, Context
+from stampc.worlds.bindings import resolve_model
+from stampc.worlds.loading import load_scene, open_world
+from stampc.worlds.pybullet import aerial, aircraft
+from stampc.worlds.pybullet import open_world as open_pybullet
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "aircraft_inspection"
+FILES = [EXAMPLE / "domain.stamp", EXAMPLE / "problem.stamp"]
+
+
+@pytest.fixture(scope="module")
+def run():
+    return stampc.refine_policy(FILES, world="pybullet",
+                                options=RefineOptions(seed=0, time_limit=90))
+
+
+def test_checked_in_problem_is_the_generators_output():
+    assert FILES[1].read_text() == aircraft_scene.problem_text(seed=0, variant="mid", battery=26.0)
+
+
+def test_refinement_reaches_full_coverage(run):
+    result = run.result
+    assert result.coverage == pytest.approx(1.0, abs=1e-9)
+    # only two missed passes (1/10 each) end without locating the fault
+    assert result.goal_probability >= 0.98
+    assert result.time_to_coverage["1.0"] is not None
+
+
+def test_battery_is_learned_and_the_uav_recharges_first(run):
+    policy = run.to_json()
+    learned = [(n, f["fact"]) for n in policy["nodes"] for f in n["learned"]
+               if f["fact"].startswith("has_battery") and f["value"] is False]
+    assert learned, "no leg was found too long for the battery"
+    # after learning, some node away from the charger replans a flight home...
+    homeward = [n for n, _ in learned
+                if re.match(r"fly\(drone, \w+, station, ", n.get("action", ""))]
+    assert homeward
+    # ...and the policy recharges there
+    assert any(n.get("action_name") == "charge" and n["refined"] for n in policy["nodes"])
+
+
+def test_every_replayed_run_on_refined_branches_succeeds(run):
+    model = stampc.load_model(FILES)
+    world = open_world("pybullet", load_scene(model.problem, EXAMPLE), seed=0)
+    bindings = resolve_model(model, world.package)
+    batteries: list[float] = []
+
+    def on_step(_run: int, _step: int, w) -> None:
+        pose = w.state.uav
+        assert aerial.uav_free(w, pose.pos + pose.quat)  # never inside a body
+        batteries.append(w.state.battery)
+
+    try:
+        report = replay(run.to_json(), world, bindings.executors, runs=40, seed=3,
+                        on_step=on_step)
+    finally:
+        world.close()
+    assert report.count("unrefined") == 0 and report.count("failure") == 0
+    assert report.count("success") + report.count("dead_end") == 40
+    assert report.count("success") >= 36
+    assert min(batteries) > 0.0  # approved legs never empty the battery
+    assert any("charge(drone, station)" in r.actions for r in report.runs)
+
+
+@pytest.fixture(scope="module")
+def world():
+    w = open_pybullet(aircraft_scene.build(seed=0, battery=12.0), seed=0)
+    yield w
+    w.close()
+
+
+def test_battery_evaluator_uses_length_and_reserve(world):
+    ctx = Context(world=world, rng=random.Random(0), options={"budget": 1})
+    (tail,) = next(aircraft.flight_path(ctx, "drone", "station", "tail"))
+    (home,) = next(aircraft.flight_path(ctx, "drone", "station", "station"))
+    # 12 m of battery: the tail is ~9 m away and needs a reserve to come back
+    assert aerial.path_length(tail) > 8.0
+    assert not aircraft.battery_suffices(ctx, "drone", tail)
+    assert aircraft.battery_suffices(ctx, "drone", home)  # no reserve into the charger
+    world.update(battery=200.0)
+    assert aircraft.battery_suffices(ctx, "drone", tail)
+    world.update(battery=12.0)
+
+
+def test_drift_outcome_ends_in_the_neighbouring_region(world):
+    snap = world.snapshot()
+    ctx = Context(world=world, rng=random.Random(1), options={"budget": 1})
+    (t,) = next(aircraft.flight_path(ctx, "drone", "station", "nose"))
+    drifted = ConcreteAction("fly", {"u": "drone", "a": "station", "b": "nose", "t": t},
+                             adds=(("calibrated", ("drone", "nose")),
+                                   ("uav_at", ("drone", "spine"))))
+    aircraft.fly(ctx, drifted)
+    assert world.regions["spine"].contains(world.state.uav.pos)
+    assert world.state.battery == pytest.approx(12.0 - aerial.path_length(t))
+    world.restore(snap)
+
+
+def test_missing_charger_is_a_located_error():
+    scene = aircraft_scene.build(seed=0)
+    scene["regions"] = [r for r in scene["regions"] if r["name"] != "station"]
+    w = open_pybullet(scene, seed=0)
+    try:
+        ctx = Context(world=w, rng=random.Random(0), options={"budget": 1})
+        (t,) = next(aircraft.flight_path(ctx, "drone", "nose", "nose"))
+        with pytest.raises(StampcError) as err:
+            aircraft.battery_suffices(ctx, "drone", t)
+        assert err.value.diagnostics[0].code == "PB033"
+    finally:
+        w.close()
+
+
+def test_generator_rejects_unknown_variant():
+    with pytest.raises(ValueError, match="unknown variant"):
+        aircraft_scene.instance(seed=0, variant="extreme")
