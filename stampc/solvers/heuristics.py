@@ -1,9 +1,13 @@
 """Heuristics over the delete relaxation of the all-outcomes determinization.
 
 Every outcome of every action (and every conditional effect with its condition) becomes a
-relaxed action whose precondition is the action's positive precondition facts (plus the
-``when`` condition's) and whose effect is that outcome's adds. Negative conditions and
-deletes are ignored, disjunctions contribute nothing — all of which only lowers costs.
+relaxed action whose precondition is the action's precondition literals (plus the
+``when`` condition's) and whose effect is that outcome's literals. Negative literals are
+facts of their own (fact ``i`` false is relaxed fact ``n + i``: reached initially when
+``i`` is false, or by an effect deleting ``i``), so a goal or precondition needing a fact
+that nothing can delete is recognised as unreachable — e.g. ``not crushed(target)`` after
+the target was crushed, or ``not collision(x, t)`` with no action that moves ``x``.
+Disjunctions contribute nothing — which, like the relaxation itself, only lowers costs.
 
 - ``zero``: 0 everywhere (admissible).
 - ``hmax``: max over preconditions (admissible when costs are non-negative).
@@ -30,20 +34,27 @@ ADMISSIBLE = {"zero": True, "hmax": True, "hadd": False}
 Heuristic = Callable[[int], float]
 
 
-def _must_facts(formulas: tuple[GFormula, ...]) -> set[int]:
-    """Positive facts every model of the conjunction ``formulas`` must contain."""
+def _must_facts(formulas: tuple[GFormula, ...], n: int) -> set[int]:
+    """Relaxed literals every model of the conjunction ``formulas`` must contain
+    (``n + i`` stands for fact ``i`` being false)."""
     facts: set[int] = set()
     for f in formulas:
         if isinstance(f, GLit):
-            if f.positive:
-                facts.add(f.fact)
+            facts.add(f.fact if f.positive else n + f.fact)
         elif isinstance(f, GAnd):
-            facts |= _must_facts(f.args)
+            facts |= _must_facts(f.args, n)
     return facts
 
 
-def condition_facts(cond: GroundCondition) -> frozenset[int]:
-    return frozenset(set(iter_bits(cond.pos)) | _must_facts(cond.rest))
+def condition_facts(cond: GroundCondition, n: int) -> frozenset[int]:
+    """Relaxed literals of a condition over a model with ``n`` facts."""
+    return frozenset(set(iter_bits(cond.pos)) | {n + f for f in iter_bits(cond.neg)}
+                     | _must_facts(cond.rest, n))
+
+
+def relaxed_state(state: int, n: int, full: int) -> int:
+    """The relaxed literals true in ``state``: its facts, and ``n + i`` for each false ``i``."""
+    return state | ((full & ~state) << n)
 
 
 def _min_cost(effect: GEffect) -> Fraction:
@@ -59,17 +70,18 @@ def _min_cost(effect: GEffect) -> Fraction:
     return total
 
 
-def _relaxed_adds(effect: GEffect, pre: frozenset[int], out: dict) -> None:
-    """Collect (precondition facts -> added facts) pairs of every outcome of ``effect``."""
-    if effect.add:
+def _relaxed_adds(effect: GEffect, pre: frozenset[int], out: dict, n: int) -> None:
+    """Collect (precondition literals -> achieved literals) pairs of every outcome."""
+    achieved = effect.add | (effect.delete << n)
+    if achieved:
         out.setdefault(pre, 0)
-        out[pre] |= effect.add
+        out[pre] |= achieved
     for cond, sub in effect.whens:
         if not cond.never:
-            _relaxed_adds(sub, pre | condition_facts(cond), out)
+            _relaxed_adds(sub, pre | condition_facts(cond, n), out, n)
     for block in effect.blocks:
         for _, sub in block.outcomes:
-            _relaxed_adds(sub, pre, out)
+            _relaxed_adds(sub, pre, out, n)
 
 
 class RelaxedModel:
@@ -78,6 +90,8 @@ class RelaxedModel:
     def __init__(self, model: GroundModel, unit_cost: bool):
         # Relaxed actions with the same precondition facts and cost are merged (their adds
         # OR-ed): exact for h_max and h_add, and far fewer counters to maintain per state.
+        n = len(model.facts)
+        self.n, self.full = n, (1 << n) - 1
         merged: dict[tuple[frozenset[int], float], int] = {}
         pre_cache: dict[GroundCondition, frozenset[int]] = {}
         for action in model.actions:
@@ -87,8 +101,8 @@ class RelaxedModel:
             pairs: dict[frozenset[int], int] = {}
             pre_facts = pre_cache.get(action.precondition)
             if pre_facts is None:
-                pre_facts = pre_cache[action.precondition] = condition_facts(action.precondition)
-            _relaxed_adds(action.effect, pre_facts, pairs)
+                pre_facts = pre_cache[action.precondition] = condition_facts(action.precondition, n)
+            _relaxed_adds(action.effect, pre_facts, pairs, n)
             for pre, add in pairs.items():
                 key = (pre, cost)
                 merged[key] = merged.get(key, 0) | add
@@ -101,19 +115,20 @@ class RelaxedModel:
         self.uniform_cost = costs[0] if costs and all(c == costs[0] for c in costs) else None
         self.counts = [len(p) for p in pres]
         self.free = [i for i, p in enumerate(pres) if not p]
-        self.users: list[list[int]] = [[] for _ in model.facts]
+        self.users: list[list[int]] = [[] for _ in range(2 * n)]
         for i, pre in enumerate(pres):
             for f in pre:
                 self.users[f].append(i)
         goal = model.goal
         self.goal_never = goal.never
-        self.goal_facts = tuple(sorted(condition_facts(goal)))
+        self.goal_facts = tuple(sorted(condition_facts(goal, n)))
         self.goal_mask = sum(1 << g for g in self.goal_facts)
 
 
 def _hmax_layered(rm: RelaxedModel, state: int, unit: float) -> float:
     """h_max when every relaxed action costs ``unit``: breadth-first over fact layers
     (facts as bitmasks), stopping at the first layer that contains the goal."""
+    state = relaxed_state(state, rm.n, rm.full)
     goal = rm.goal_mask
     reached = state
     if reached & goal == goal:
@@ -150,6 +165,7 @@ def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
         return math.inf
     if not additive and rm.uniform_cost is not None and rm.uniform_cost > 0:
         return _hmax_layered(rm, state, rm.uniform_cost)
+    state = relaxed_state(state, rm.n, rm.full)
     goal = rm.goal_facts
     remaining = sum(1 for g in goal if not (state >> g) & 1)
     if remaining == 0:
