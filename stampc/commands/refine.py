@@ -26,6 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="probability of UpdateAbstraction mode (default 0.5)")
     parser.add_argument("--explore-probability", type=float, default=0.05,
                         help="probability of the explore step (default 0.05)")
+    parser.add_argument("--heuristic", default="hadd", choices=("hadd", "hmax", "zero"),
+                        help="abstract solver heuristic (default hadd: fast, inadmissible)")
     parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
                         help="override a scene-builder argument (repeatable)")
     parser.add_argument("-o", "--output", metavar="DIR", help="write policy.json, coverage.csv, "
@@ -54,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
         seed=args.seed, time_limit=args.time_limit, target_coverage=args.target_coverage,
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
-        solver=SolverOptions(heuristic="hmax", seed=args.seed))
+        solver=SolverOptions(heuristic=args.heuristic, seed=args.seed))
     try:
         with _progress(args.quiet) as on_event:
             run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,

@@ -65,6 +65,8 @@ class Engine:
     def run(self) -> Iterator[ProgressEvent]:
         """Anytime loop: yields a progress event per iteration until a stop condition."""
         self._start = time.perf_counter()
+        if self.options.time_limit is not None:
+            self.planner.deadline = self._start + self.options.time_limit
         initial = self.world.snapshot()
         try:
             yield from self._loop()

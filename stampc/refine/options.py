@@ -29,7 +29,10 @@ class RefineOptions:
     breadth: int = 5
     breadth_step: int = 5
     max_iterations: int = 100_000
-    solver: SolverOptions = field(default_factory=lambda: SolverOptions(heuristic="hmax"))
+    #: The abstract solver used for every (re)plan. h_add is inadmissible but keeps the
+    #: hundreds of re-solves of a run fast; the policy need not be cost-optimal to be
+    #: refined (use heuristic="hmax" for optimal abstract policies).
+    solver: SolverOptions = field(default_factory=lambda: SolverOptions(heuristic="hadd"))
 
 
 @dataclass(frozen=True)

@@ -9,6 +9,7 @@ solution's values are reused (``warm``).
 from __future__ import annotations
 
 import random
+import time
 from dataclasses import replace
 from typing import Iterator
 
@@ -20,7 +21,12 @@ from stampc.solvers import Solution, SolverOptions, policy_tree, solve
 class AbstractPlanner:
     def __init__(self, model: GroundModel, options: SolverOptions, uids: Iterator[int]):
         self.model = model
+        # The engine unrolls stationary policies to its own (growing) horizon, so the
+        # problem's horizon must not turn every re-solve into a time-indexed one.
+        self.solve_model = replace(model, horizon=None) if model.horizon is not None else model
         self.options = options
+        #: absolute time.perf_counter() deadline for solver calls (the engine's time limit)
+        self.deadline: float | None = None
         self.uids = uids
         self.solves = 0
         self.solve_time_s = 0.0
@@ -29,8 +35,10 @@ class AbstractPlanner:
 
     def solve_from(self, state: int) -> Solution:
         opts = replace(self.options, forbidden=frozenset(self.forbidden)) if self.forbidden else self.options
+        if self.deadline is not None:
+            opts = replace(opts, time_limit=max(0.05, self.deadline - time.perf_counter()))
         warm = self._last if (self._last is not None and not self.forbidden) else None
-        solution = solve(self.model, opts, init=state, warm=warm)
+        solution = solve(self.solve_model, opts, init=state, warm=warm)
         self.solves += 1
         self.solve_time_s += solution.solve_time_s
         if not self.forbidden:
@@ -46,7 +54,7 @@ class AbstractPlanner:
             return self._graft_forced(graph, state, depth, horizon, forced_action)
         solution = self.solve_from(state)
         remaining = max(0, horizon - depth)
-        tree = policy_tree(self.model, solution, init=state, depth=remaining)
+        tree = policy_tree(self.solve_model, solution, init=state, depth=remaining)
         return self._add_tree(graph, tree, depth)
 
     def _graft_forced(self, graph: PolicyGraph, state: int, depth: int, horizon: int,

@@ -115,6 +115,7 @@ class RelaxedModel:
         self.uniform_cost = costs[0] if costs and all(c == costs[0] for c in costs) else None
         self.counts = [len(p) for p in pres]
         self.free = [i for i, p in enumerate(pres) if not p]
+        self.pre_masks = [sum(1 << f for f in p) for p in pres]
         self.users: list[list[int]] = [[] for _ in range(2 * n)]
         for i, pre in enumerate(pres):
             for f in pre:
@@ -125,30 +126,30 @@ class RelaxedModel:
         self.goal_mask = sum(1 << g for g in self.goal_facts)
 
 
+def _open_counts(rm: RelaxedModel, state: int) -> list[int]:
+    """Per relaxed action, how many of its precondition literals ``state`` lacks.
+
+    Counting with bit operations up front means the searches below only ever touch
+    literals that are *not* already true — most literals of a state (e.g. the many
+    ``not collision(x, t)``) are, and walking them per evaluation dominated the cost."""
+    return [(m & ~state).bit_count() for m in rm.pre_masks]
+
+
 def _hmax_layered(rm: RelaxedModel, state: int, unit: float) -> float:
-    """h_max when every relaxed action costs ``unit``: breadth-first over fact layers
-    (facts as bitmasks), stopping at the first layer that contains the goal."""
-    state = relaxed_state(state, rm.n, rm.full)
+    """h_max when every relaxed action costs ``unit``: breadth-first over literal layers
+    (as bitmasks), stopping at the first layer that contains the goal."""
+    reached = relaxed_state(state, rm.n, rm.full)
     goal = rm.goal_mask
-    reached = state
     if reached & goal == goal:
         return 0.0
-    counts = rm.counts.copy()
+    counts = _open_counts(rm, reached)
     users, add_masks = rm.users, rm.add_masks
     new = 0
-    for i in rm.free:
-        new |= add_masks[i]
-    frontier = state
+    for i, c in enumerate(counts):
+        if not c:
+            new |= add_masks[i]
     level = 0
     while True:
-        while frontier:
-            low = frontier & -frontier
-            frontier ^= low
-            for i in users[low.bit_length() - 1]:
-                c = counts[i] - 1
-                counts[i] = c
-                if not c:
-                    new |= add_masks[i]
         new &= ~reached
         if not new:
             return math.inf
@@ -157,33 +158,40 @@ def _hmax_layered(rm: RelaxedModel, state: int, unit: float) -> float:
         if reached & goal == goal:
             return level * unit
         frontier, new = new, 0
+        while frontier:
+            low = frontier & -frontier
+            frontier ^= low
+            for i in users[low.bit_length() - 1]:
+                c = counts[i] - 1
+                counts[i] = c
+                if not c:
+                    new |= add_masks[i]
 
 
 def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
-    """Generalised Dijkstra over facts; stops once every goal fact is settled."""
+    """Generalised Dijkstra over the literals not yet true; stops once every goal literal
+    is settled."""
     if rm.goal_never:
         return math.inf
     if not additive and rm.uniform_cost is not None and rm.uniform_cost > 0:
         return _hmax_layered(rm, state, rm.uniform_cost)
     state = relaxed_state(state, rm.n, rm.full)
-    goal = rm.goal_facts
-    remaining = sum(1 for g in goal if not (state >> g) & 1)
-    if remaining == 0:
+    goal = [g for g in rm.goal_facts if not (state >> g) & 1]
+    if not goal:
         return 0.0
-    counts = rm.counts.copy()
+    counts = _open_counts(rm, state)
     pres, adds, costs, users = rm.pres, rm.adds, rm.costs, rm.users
     best: dict[int, float] = {}
     heap: list[tuple[float, int]] = []
-    for f in iter_bits(state):
-        best[f] = 0.0
-        heap.append((0.0, f))
-    for i in rm.free:
-        for g in adds[i]:
-            if costs[i] < best.get(g, math.inf):
-                best[g] = costs[i]
-                heap.append((costs[i], g))
+    for i, c in enumerate(counts):
+        if not c:
+            for g in adds[i]:
+                if not (state >> g) & 1 and costs[i] < best.get(g, math.inf):
+                    best[g] = costs[i]
+                    heap.append((costs[i], g))
     heapq.heapify(heap)
     goal_set = set(goal)
+    remaining = len(goal)
     done: set[int] = set()
     total = 0.0
     while heap:
@@ -191,7 +199,7 @@ def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
         if f in done:
             continue
         done.add(f)
-        if f in goal_set and not (state >> f) & 1:
+        if f in goal_set:
             total = total + c if additive else c
             remaining -= 1
             if remaining == 0:
@@ -201,11 +209,11 @@ def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
             if counts[i]:
                 continue
             if additive:
-                base = sum(best[p] for p in pres[i]) + costs[i]
+                base = sum(best.get(p, 0.0) for p in pres[i]) + costs[i]
             else:
                 base = c + costs[i]  # settled in non-decreasing order: c is the max
             for g in adds[i]:
-                if base < best.get(g, math.inf):
+                if not (state >> g) & 1 and base < best.get(g, math.inf):
                     best[g] = base
                     heapq.heappush(heap, (base, g))
     return math.inf

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from stampc.solvers.core import Search
 
-_TIME_CHECK_EVERY = 256
+_TIME_CHECK_EVERY = 8
 
 
 def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
