@@ -20,7 +20,7 @@ offending entry, 1-based).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Mapping, Sequence
 
@@ -123,6 +123,10 @@ class SceneSpec:
     poses: tuple[tuple[str, str], ...]
     regions: tuple[BoxSpec, ...]
     uav: UavSpec | None
+    #: the scene's free-form ``meta`` section, read-only (domain bindings may read it,
+    #: e.g. the keva structure's slot poses); not compared
+    meta: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}),
+                                    compare=False)
 
 
 # ------------------------------------------------------------------ validation
@@ -309,9 +313,12 @@ def parse_scene(scene: Mapping) -> SceneSpec:
                 c.fail(i, f"pose symbol '{sym}' refers to unknown object {obj!r}")
             else:
                 poses.append((str(sym), obj))
+    meta = scene.get("meta", {})
+    meta = meta if isinstance(meta, Mapping) else {}  # free-form: never an error
     c.section = ""
     if robot is None and uav is None and not c.diags:
         c.fail(1, "a scene needs a 'robot' or a 'uav'")
     if c.diags:
         raise StampcError(c.diags)
-    return SceneSpec(robot, surfaces, objects, tuple(poses), regions, uav)
+    return SceneSpec(robot, surfaces, objects, tuple(poses), regions, uav,
+                     MappingProxyType(dict(meta)))

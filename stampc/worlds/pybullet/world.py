@@ -11,7 +11,7 @@ robot against itself); objects resting on a table are never compared with each o
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Mapping
+from typing import Any, Mapping
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.pybullet._pb import p, pybullet_data, quiet_stdout
@@ -211,6 +211,25 @@ class PyBulletWorld:
         if self.client >= 0:
             p.disconnect(physicsClientId=self.client)
             self.client = -1
+
+    def render(self, width: int = 480, height: int = 360, **camera: Any) -> Any:
+        """An RGB frame (numpy ``height × width × 3``) of the current state, rendered
+        with TinyRenderer; ``camera`` as in :func:`.render.render_frame`."""
+        from stampc.worlds.pybullet.render import render_frame  # render imports this module
+        return render_frame(self, width, height, **camera)
+
+    def fingerprint(self, state: WorldState) -> tuple:
+        """Hashable key of a snapshot, equal for states equal up to 1e-6 (m, rad, quat
+        components): lets the engine merge policy nodes reaching the same concrete state."""
+        def r(values: tuple[float, ...] | None) -> tuple[float, ...] | None:
+            return None if values is None else tuple(round(v, 6) + 0.0 for v in values)
+
+        def pose(x: Pose | None) -> tuple | None:
+            return None if x is None else (r(x.pos), r(x.quat))
+
+        return (r(state.q), tuple((n, pose(x)) for n, x in state.poses), state.held,
+                pose(state.grip), r(state.retreat), state.released, pose(state.uav),
+                round(state.battery, 6), tuple(sorted(state.removed)))
 
     def __enter__(self) -> "PyBulletWorld":
         return self
