@@ -67,6 +67,7 @@ class Engine:
         self._start = time.perf_counter()
         if self.options.time_limit is not None:
             self.planner.deadline = self._start + self.options.time_limit
+        self.planner.solve_time_limit = self.options.solve_time_limit
         initial = self.world.snapshot()
         try:
             yield from self._loop()
@@ -260,7 +261,9 @@ class Engine:
         target.learned = target.learned + tuple(learned)
         new_graph.prune()
         v = self.prg.number_of_nodes()
-        failed = not any(n.leaf in (GOAL, HORIZON) for n in new_graph.nodes.values())
+        # learned facts that leave no way to the goal below this node most likely come
+        # from an unlucky sample: backtrack rather than accept a dead end
+        failed = not any(new_graph[u].leaf in (GOAL, HORIZON) for u in new_graph.reachable(node.uid))
         facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
         self.prg.add_node(v, graph=new_graph, parent=self.current, failed=failed)
         self.prg.add_edge(self.current, v, node=node.uid, failed_preconditions=facts,

@@ -74,11 +74,11 @@ class PolicyGraph:
     def __getitem__(self, uid: int) -> Node:
         return self.nodes[uid]
 
-    def reachable(self) -> list[int]:
-        """uids reachable from the root in depth-first preorder (each once)."""
+    def reachable(self, start: int | None = None) -> list[int]:
+        """uids reachable from ``start`` (default: the root) in depth-first preorder."""
         seen: set[int] = set()
         order: list[int] = []
-        stack = [self.root]
+        stack = [self.root if start is None else start]
         while stack:
             uid = stack.pop()
             if uid in seen:

@@ -29,6 +29,9 @@ class RefineOptions:
     breadth: int = 5
     breadth_step: int = 5
     max_iterations: int = 100_000
+    #: cap on one abstract (re)solve, in seconds; a solve that hits it returns its best
+    #: partial policy (a replan without a way to the goal then backtracks)
+    solve_time_limit: float = 10.0
     #: The abstract solver used for every (re)plan. h_add is inadmissible but keeps the
     #: hundreds of re-solves of a run fast; the policy need not be cost-optimal to be
     #: refined (use heuristic="hmax" for optimal abstract policies).

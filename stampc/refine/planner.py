@@ -27,6 +27,8 @@ class AbstractPlanner:
         self.options = options
         #: absolute time.perf_counter() deadline for solver calls (the engine's time limit)
         self.deadline: float | None = None
+        #: cap on a single solve, in seconds
+        self.solve_time_limit: float | None = None
         self.uids = uids
         self.solves = 0
         self.solve_time_s = 0.0
@@ -35,8 +37,10 @@ class AbstractPlanner:
 
     def solve_from(self, state: int) -> Solution:
         opts = replace(self.options, forbidden=frozenset(self.forbidden)) if self.forbidden else self.options
-        if self.deadline is not None:
-            opts = replace(opts, time_limit=max(0.05, self.deadline - time.perf_counter()))
+        budget = [b for b in (self.solve_time_limit, self.deadline and
+                              max(0.05, self.deadline - time.perf_counter())) if b]
+        if budget:
+            opts = replace(opts, time_limit=min(budget))
         warm = self._last if (self._last is not None and not self.forbidden) else None
         solution = solve(self.solve_model, opts, init=state, warm=warm)
         self.solves += 1
