@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from stampc.commands.common import read_source
 from stampc.diagnostics import Severity, SourceCache, StampcError, render_human, render_json, summary_line
 from stampc.semantics.api import analyze, unique_sorted
 from stampc.semantics.loader import display_name, source_from_text
@@ -25,11 +26,8 @@ def run(args: argparse.Namespace) -> int:
     sources = []
     for name in args.files:
         path = Path(name)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not UTF-8 text"
-            print(f"stampc check: error: cannot read {name}: {reason}", file=sys.stderr)
+        text = read_source(name, "check")
+        if text is None:
             return 2
         sources.append(source_from_text(text, display_name(path), path))
     try:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import ast
 import sys
+from pathlib import Path
 
 from stampc.diagnostics import SourceCache, StampcError, render_human, sort_key, summary_line
 
@@ -13,6 +14,16 @@ def add_input_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("files", nargs="+", metavar="FILE",
                         help="DOMAIN [PROBLEM] (.stamp), or one .pddl file (domain.pddl beside it "
                              "for problem-only files), or domain.pddl problem.pddl")
+
+
+def read_source(name: str, command: str) -> str | None:
+    """The text of file ``name``, or None after printing why it cannot be read (exit 2)."""
+    try:
+        return Path(name).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not UTF-8 text"
+        print(f"stampc {command}: error: cannot read {name}: {reason}", file=sys.stderr)
+        return None
 
 
 def fail_with(exc: StampcError) -> int:

@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from stampc.commands.common import read_source
 from stampc.diagnostics import SourceCache, render_human, summary_line
 from stampc.semantics.loader import display_name
 from stampc.syntax.fmt import format_program
@@ -26,11 +27,8 @@ def run(args: argparse.Namespace) -> int:
     status = 0
     for name in args.files:
         path = Path(name)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not UTF-8 text"
-            print(f"stampc fmt: error: cannot read {name}: {reason}", file=sys.stderr)
+        text = read_source(name, "fmt")
+        if text is None:
             return 2
         shown = display_name(path)
         program, diags = parse_source(text, shown)

@@ -108,10 +108,11 @@ def _copy_node(node: Node) -> Node:
 
 
 # ------------------------------------------------------------------ coverage
-def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float]) -> float:
-    """Probability, from the root, of reaching a leaf scored by ``leaf_value`` while
-    staying on refined nodes. Iterated to a fixed point so cycles (retry loops) count
-    with their true, geometric probability."""
+def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float],
+          refined_only: bool = True) -> float:
+    """Probability, from the root, of reaching a leaf scored by ``leaf_value`` (while
+    staying on refined nodes, with ``refined_only``). Iterated to a fixed point so cycles
+    (retry loops) count with their true, geometric probability."""
     order = graph.reachable()
     value = {u: 0.0 for u in order}
     for _ in range(10_000):
@@ -120,7 +121,7 @@ def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float]) -> float:
             node = graph.nodes[uid]
             if node.is_leaf:
                 new = leaf_value(node)
-            elif not node.refined:
+            elif refined_only and not node.refined:
                 new = 0.0
             else:
                 new = sum(e.probability * value[e.child] for e in node.edges)
@@ -143,19 +144,7 @@ def goal_probability(graph: PolicyGraph) -> float:
 
 def abstract_goal_probability(graph: PolicyGraph) -> float:
     """Goal probability of the abstract policy, ignoring refinement."""
-    order = graph.reachable()
-    value = {u: 0.0 for u in order}
-    for _ in range(10_000):
-        delta = 0.0
-        for uid in reversed(order):
-            node = graph.nodes[uid]
-            new = (1.0 if node.leaf == GOAL else 0.0) if node.is_leaf else sum(
-                e.probability * value[e.child] for e in node.edges)
-            delta = max(delta, abs(new - value[uid]))
-            value[uid] = new
-        if delta < 1e-12:
-            break
-    return value[graph.root]
+    return _mass(graph, lambda n: 1.0 if n.leaf == GOAL else 0.0, refined_only=False)
 
 
 # ------------------------------------------------------------ path selection

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from typing import Iterator
 
+from stampc.ir.grounded import bits as iter_bits
 from stampc.ir.grounded import GroundAction, GroundCondition, GroundModel
 from stampc.solvers.float_effects import branches, compile_effect
 
@@ -27,14 +28,6 @@ _UNSET = object()
 
 #: Self-loop probabilities this close to 1 make an action a no-op in that state.
 _NOOP_TOLERANCE = 1e-12
-
-
-def iter_bits(mask: int) -> Iterator[int]:
-    """Indices of the set bits of ``mask``, lowest first."""
-    while mask:
-        low = mask & -mask
-        yield low.bit_length() - 1
-        mask ^= low
 
 
 class SuccessorCache:

@@ -22,10 +22,13 @@ types and concrete values for continuous ones. Concrete values must be JSON-frie
 
 from __future__ import annotations
 
+import json
 import random
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping, Protocol, runtime_checkable
 
+from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.grounded import GroundAtom
 
 
@@ -101,3 +104,25 @@ def to_json(value: Any) -> Any:
 def atom_args(atom: GroundAtom, values: Mapping[str, Any]) -> tuple[Any, ...]:
     """Replace symbols in a ground atom by their concrete values (others stay names)."""
     return tuple(values.get(a, a) for a in atom.args)
+
+
+def scene_argument(scene: Mapping[str, Any] | str | Path, seed: Any, *, read_code: str,
+                   seed_code: str, world: str) -> tuple[Mapping[str, Any], str]:
+    """Shared front door of the worlds' ``open_world``: accept a scene dict or the path of a
+    JSON scene file (read errors and bad seeds become located diagnostics with the
+    world's own codes); returns the scene dict and its source name."""
+    source = "<scene>"
+    if isinstance(scene, (str, Path)):
+        source = str(scene)
+        try:
+            scene = json.loads(Path(scene).read_text(encoding="utf-8"))
+        except OSError as exc:
+            raise StampcError([error(read_code, f"cannot read scene file {source!r}: "
+                                     f"{exc.strerror}", Span.point(source))]) from None
+        except json.JSONDecodeError as exc:
+            raise StampcError([error(read_code, f"scene file is not valid JSON: {exc.msg}",
+                                     Span.point(source, exc.lineno, exc.colno))]) from None
+    if isinstance(seed, bool) or not isinstance(seed, int):
+        raise StampcError([error(seed_code, f"{world}: seed must be an integer, got {seed!r}",
+                                 Span.point(f"<{world} world>"))])
+    return scene, source

@@ -52,8 +52,9 @@ def test_cluttered_table_model() -> None:
     actions = {a.name: a for a in m.domain.actions}
     assert set(actions) == {"pick", "place", "discard"}  # the domain's pick/place override the stdlib's
     pick = actions["pick"]
-    assert pick.generated == (ir.GeneratorUse("grasp", ("o", "p"), ("g", "q")),
-                              ir.GeneratorUse("motion", ("q",), ("t",)))
+    # the domain's clear-first grasp generator, then its motion generator
+    assert pick.generated == (ir.GeneratorUse("clear_grasp", ("o", "p"), ("g", "q")),
+                              ir.GeneratorUse("motion4", ("q",), ("t",)))
     crush = {o.probability for o in outcomes(pick.effect) if o.label == "crushed"}
     assert {Fraction(1, 20), Fraction(1, 2)} <= crush  # normal cans 0.05; delicate (mid) 0.5
     assert actions["discard"].cost == ir.Num(Fraction(5)) and pick.cost == ir.Num(Fraction(1))
@@ -78,7 +79,9 @@ def test_keva_feed_outcomes_sum_to_one() -> None:
     assert sum(o.probability for o in outcomes(place.effect)) == 1
     assert [o.label for o in outcomes(place.effect)] == ["feed1", "feed2"]
     assert ir.GeneratorUse("slot_placement", ("k", "s"), ("p", "q")) in place.generated
-    assert {c.name: c.symbolic for c in m.domain.constants} == {"feed1": True, "feed2": True}
+    # feeds are named places (a discrete type); their poses live in the scene
+    assert {c.name: (c.type, c.symbolic) for c in m.domain.constants} == {
+        "feed1": ("feed", False), "feed2": ("feed", False)}
 
 
 def test_aircraft_battery_is_optimistically_true() -> None:

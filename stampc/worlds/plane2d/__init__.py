@@ -8,11 +8,10 @@ bound-function contract as the PyBullet world, so a domain bound with relative b
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any, Mapping
 
-from stampc.diagnostics import Span, StampcError, error
+from stampc.worlds.base import scene_argument
 from stampc.worlds.plane2d.scene import Scene, parse_scene
 from stampc.worlds.plane2d.values import Config2, Grasp2, Pose2, Traj2
 from stampc.worlds.plane2d.world import Plane2DWorld, WorldState
@@ -31,18 +30,6 @@ def open_world(scene: Mapping[str, Any] | str | Path, *, seed: int,
 
     Raises :class:`StampcError` with ``S2xx`` diagnostics for malformed scenes.
     """
-    source = "<scene>"
-    if isinstance(scene, (str, Path)):
-        source = str(scene)
-        try:
-            scene = json.loads(Path(scene).read_text(encoding="utf-8"))
-        except OSError as exc:
-            raise StampcError([error("S200", f"cannot read scene file {source!r}: "
-                                     f"{exc.strerror}", Span.point(source))]) from None
-        except json.JSONDecodeError as exc:
-            raise StampcError([error("S200", f"scene file is not valid JSON: {exc.msg}",
-                                     Span.point(source, exc.lineno, exc.colno))]) from None
-    if isinstance(seed, bool) or not isinstance(seed, int):
-        raise StampcError([error("S202", f"plane2d: seed must be an integer, got {seed!r}",
-                                 Span.point("<plane2d world>"))])
+    scene, source = scene_argument(scene, seed, read_code="S200", seed_code="S202",
+                                   world="plane2d")
     return Plane2DWorld(parse_scene(scene, source=source), seed=seed, verbose=verbose)
