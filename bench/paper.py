@@ -9,7 +9,7 @@ Every run is a fresh instance from the example's problem generator
 (``examples/<name>/scene.py:write_problem``) refined by ``python -m stampc refine ...
 --world pybullet -o DIR`` in its own subprocess with a timeout; ``summary.json`` and
 ``coverage.csv`` are read back. A run is *solved* when it reaches coverage 1.0 within
-the timeout. Outputs in ``--out``: ``runs.csv`` (every run), ``table.md`` (the table
+the timeout with a policy that reaches the goal with probability > 0. Outputs in ``--out``: ``runs.csv`` (every run), ``table.md`` (the table
 printed at the end), ``anytime.png`` (mean coverage vs time per class) and the runs'
 folders. See docs/benchmarks.md.
 """
@@ -85,7 +85,7 @@ class RunRecord:
     cls: str
     run: int
     seed: int
-    status: str  # "solved" | "partial" | "timeout" | "error"
+    status: str  # "solved" | "partial" | "timeout" | "unsolvable" | "error"
     coverage: float
     goal_probability: float
     wall_time_s: float
@@ -166,8 +166,11 @@ def run_job(job: Job) -> RunRecord:
     data = json.loads(summary.read_text())
     coverage = float(data["coverage"])
     wall = float(data["wall_time_s"])
-    solved = coverage >= 1.0 - 1e-9 and wall <= job.timeout_s
-    status = "solved" if solved else ("timeout" if wall >= job.timeout_s else "partial")
+    # a policy whose every branch is a dead end is "covered" but solves nothing
+    reaches_goal = float(data["goal_probability"]) > 0.0
+    solved = coverage >= 1.0 - 1e-9 and wall <= job.timeout_s and reaches_goal
+    status = ("solved" if solved else "unsolvable" if not reaches_goal
+              else "timeout" if wall >= job.timeout_s else "partial")
     return RunRecord(**base, status=status, coverage=coverage,
                      goal_probability=float(data["goal_probability"]), wall_time_s=wall,
                      time_to={k: data["time_to_coverage"].get(k) for k in THRESHOLDS},

@@ -26,8 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="probability of UpdateAbstraction mode (default 0.5)")
     parser.add_argument("--explore-probability", type=float, default=0.05,
                         help="probability of the explore step (default 0.05)")
-    parser.add_argument("--heuristic", default="hadd", choices=("hadd", "hmax", "zero"),
-                        help="abstract solver heuristic (default hadd: fast, inadmissible)")
+    parser.add_argument("--heuristic", default="hff", choices=("hff", "hadd", "hmax", "zero"),
+                        help="abstract solver heuristic (default hff: relaxed plan cost)")
+    parser.add_argument("--weight", type=float, default=3.0,
+                        help="heuristic weight of the abstract solver (default 3; 1 = optimal "
+                             "with an admissible heuristic)")
     parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
                         help="override a scene-builder argument (repeatable)")
     parser.add_argument("-o", "--output", metavar="DIR", help="write policy.json, coverage.csv, "
@@ -56,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         seed=args.seed, time_limit=args.time_limit, target_coverage=args.target_coverage,
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
-        solver=SolverOptions(heuristic=args.heuristic, seed=args.seed))
+        solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed))
     try:
         with _progress(args.quiet) as on_event:
             run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
@@ -70,6 +73,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"coverage {result.coverage:.4f}  goal probability {result.goal_probability:.4f}  "
           f"time {result.wall_time_s:.2f}s  PRG nodes {result.prg_nodes}  "
           f"abstract solves {result.abstract_solves}  ({result.stop_reason})")
+    if result.stop_reason == "abstract goal unreachable":
+        print("stampc refine: the goal is unreachable in the abstract model from the initial "
+              "state (no policy reaches it with probability > 0)", file=sys.stderr)
+        return 1
     if args.output:
         run_.write(Path(args.output))
         print(f"wrote {args.output}/policy.json, coverage.csv, coverage.png, policy.dot, "

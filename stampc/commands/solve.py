@@ -21,7 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "domain.pddl beside them), or domain.pddl problem.pddl")
     parser.add_argument("--algorithm", choices=ALGORITHMS, default="lao")
     parser.add_argument("--heuristic", choices=HEURISTICS, default="hmax",
-                        help="zero, hmax (admissible) or hadd (INADMISSIBLE, faster)")
+                        help="zero, hmax (admissible), hadd or hff (INADMISSIBLE, faster)")
+    parser.add_argument("--weight", type=float, default=1.0,
+                        help="heuristic weight (weighted LAO*; default 1)")
     parser.add_argument("--epsilon", type=float, default=1e-4, help="Bellman residual to converge")
     parser.add_argument("--dead-end-cost", type=float, default=500.0,
                         help="give-up cost D: dead ends cost D and every Q-value is capped at D")
@@ -79,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
     options = SolverOptions(algorithm=args.algorithm, heuristic=args.heuristic,
                             epsilon=args.epsilon, dead_end_cost=args.dead_end_cost,
                             unit_cost=args.unit_cost, horizon=args.horizon,
-                            time_limit=args.time_limit, seed=args.seed)
+                            time_limit=args.time_limit, seed=args.seed, weight=args.weight)
     start, cpu_start = time.perf_counter(), time.process_time()
     try:
         check_options(options)

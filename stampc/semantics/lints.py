@@ -8,6 +8,7 @@ from stampc.semantics.check_problem import ProblemInfo
 from stampc.semantics.codes import diag
 from stampc.semantics.generators import Production
 from stampc.semantics.scope import DomainInfo
+from stampc.semantics.terms import quantified_params
 from stampc.syntax import ast
 
 
@@ -57,35 +58,12 @@ def _lint_types(info: DomainInfo, diags: list[Diagnostic]) -> None:
         params.extend(g.inputs + g.outputs)
     for a in info.actions:
         params.extend(a.params)
-        params.extend(_quantified_params(a.pre))
-        params.extend(_quantified_params(a.eff))
+        params.extend(quantified_params(a.pre))
+        params.extend(quantified_params(a.eff))
     used |= {p.type.name for p in params}
     for name, t in info.types.items():
         if name not in used and info.is_local(t.ident.span):
             diags.append(diag("W402", f"type `{name}` is never used", t.ident.span))
-
-
-def _quantified_params(node: object) -> list[ast.Param]:
-    out: list[ast.Param] = []
-    stack = [node]
-    while stack:
-        n = stack.pop()
-        if isinstance(n, (ast.Quantified, ast.EffForall)):
-            out.extend(n.params)
-            stack.append(n.body if isinstance(n, ast.Quantified) else n.effect)
-        elif isinstance(n, ast.Not):
-            stack.append(n.arg)
-        elif isinstance(n, (ast.And, ast.Or)):
-            stack.extend(n.args)
-        elif isinstance(n, ast.Implies):
-            stack.extend((n.left, n.right))
-        elif isinstance(n, ast.EffAnd):
-            stack.extend(n.effects)
-        elif isinstance(n, ast.When):
-            stack.extend((n.condition, n.effect))
-        elif isinstance(n, ast.Probabilistic):
-            stack.extend(o.effect for o in n.outcomes)
-    return out
 
 
 def lint_problem(p: ProblemInfo, info: DomainInfo, diags: list[Diagnostic]) -> None:

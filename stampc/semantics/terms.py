@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Mapping
 
 from stampc.diagnostics import Label
@@ -149,29 +150,38 @@ def check_numexpr(e: ast.NumExpr, env: Env, ctx: Ctx) -> None:
         check_args("function", e.function, e.args, decl.params, decl.name.span, env, ctx)
 
 
-def quantified_names(node: object) -> frozenset[str]:
-    """Every variable name bound by a quantifier (formula or effect) inside ``node``."""
-    found: set[str] = set()
+# Children that can hold a quantifier, by exact node type: the walks below test each
+# node once with a dict lookup instead of a chain of ``isinstance`` calls (leaves such as
+# atoms, literals and costs are absent and end the walk at once).
+_INNER = MappingProxyType({
+    ast.Quantified: lambda n: (n.body,),
+    ast.EffForall: lambda n: (n.effect,),
+    ast.Not: lambda n: (n.arg,),
+    ast.And: lambda n: n.args,
+    ast.Or: lambda n: n.args,
+    ast.Implies: lambda n: (n.left, n.right),
+    ast.EffAnd: lambda n: n.effects,
+    ast.When: lambda n: (n.condition, n.effect),
+    ast.Probabilistic: lambda n: [o.effect for o in n.outcomes],
+})
+_BINDERS = (ast.Quantified, ast.EffForall)
+
+
+def quantified_params(node: object) -> list[ast.Param]:
+    """Every parameter bound by a quantifier (formula or effect) inside ``node``."""
+    found: list[ast.Param] = []
     stack = [node]
     while stack:
         n = stack.pop()
-        if isinstance(n, (ast.Quantified, ast.EffForall)):
-            found.update(p.name.name for p in n.params)
-        if isinstance(n, (ast.Quantified,)):
-            stack.append(n.body)
-        elif isinstance(n, ast.EffForall):
-            stack.append(n.effect)
-        elif isinstance(n, ast.Not):
-            stack.append(n.arg)
-        elif isinstance(n, (ast.And, ast.Or)):
-            stack.extend(n.args)
-        elif isinstance(n, ast.Implies):
-            stack.extend((n.left, n.right))
-        elif isinstance(n, ast.EffAnd):
-            stack.extend(n.effects)
-        elif isinstance(n, ast.When):
-            stack.extend((n.condition, n.effect))
-        elif isinstance(n, ast.Probabilistic):
-            stack.extend(o.effect for o in n.outcomes)
-    return frozenset(found)
+        inner = _INNER.get(type(n))
+        if inner is None:
+            continue
+        if type(n) in _BINDERS:
+            found.extend(n.params)
+        stack.extend(inner(n))
+    return found
 
+
+def quantified_names(node: object) -> frozenset[str]:
+    """Every variable name bound by a quantifier (formula or effect) inside ``node``."""
+    return frozenset([p.name.name for p in quantified_params(node)])

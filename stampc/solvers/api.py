@@ -36,6 +36,9 @@ def check_options(options: SolverOptions) -> None:
                                       f"got {options.dead_end_cost}", _OPTIONS_SPAN))
     if options.horizon is not None and options.horizon < 0:
         problems.append(error("S005", f"horizon must be >= 0, got {options.horizon}", _OPTIONS_SPAN))
+    if not (options.weight >= 1.0 and options.weight < float("inf")):
+        problems.append(error("S008", f"heuristic weight must be a finite number >= 1, "
+                              f"got {options.weight}", _OPTIONS_SPAN))
     if options.time_limit is not None and not options.time_limit > 0:
         problems.append(error("S006", f"time limit must be positive, got {options.time_limit}",
                               _OPTIONS_SPAN))
@@ -55,6 +58,7 @@ def _compatible(warm: Solution, model: GroundModel, options: SolverOptions,
     return (warm.search is not None and warm.search.space.cache.model is model
             and w.unit_cost == options.unit_cost and w.dead_end_cost == options.dead_end_cost
             and warm.horizon == horizon and w.heuristic == options.heuristic
+            and w.weight == options.weight
             and w.forbidden <= options.forbidden)
 
 
@@ -75,7 +79,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
         warm_values = dict(old.V)
     else:
         cache = SuccessorCache(model, options.unit_cost)
-        h = make_heuristic(options.heuristic, model, options.unit_cost)
+        h = make_heuristic(options.heuristic, model, options.unit_cost, options.weight)
         warm_values = None
     guide = steps = None
     if horizon is not None:

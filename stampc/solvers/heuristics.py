@@ -11,6 +11,9 @@ Disjunctions contribute nothing — which, like the relaxation itself, only lowe
 
 - ``zero``: 0 everywhere (admissible).
 - ``hmax``: max over preconditions (admissible when costs are non-negative).
+- ``hff``: the cost of a relaxed plan extracted from h_add's best supporters (each
+  relaxed action counted once) — INADMISSIBLE; unlike h_add it does not double-count
+  shared sub-goals, so long chains (stacking planks) are not overestimated.
 - ``hadd``: sum over preconditions — INADMISSIBLE, usually much more informed; LAO* and
   LRTDP then return fast but possibly suboptimal policies.
 
@@ -28,8 +31,8 @@ from typing import Callable
 from stampc.ir.grounded import GAnd, GEffect, GFormula, GLit, GroundCondition, GroundModel
 from stampc.solvers.successors import iter_bits
 
-HEURISTICS = ("zero", "hmax", "hadd")
-ADMISSIBLE = {"zero": True, "hmax": True, "hadd": False}
+HEURISTICS = ("zero", "hmax", "hadd", "hff")
+ADMISSIBLE = {"zero": True, "hmax": True, "hadd": False, "hff": False}
 
 Heuristic = Callable[[int], float]
 
@@ -168,13 +171,14 @@ def _hmax_layered(rm: RelaxedModel, state: int, unit: float) -> float:
                     new |= add_masks[i]
 
 
-def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
+def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     """Generalised Dijkstra over the literals not yet true; stops once every goal literal
-    is settled."""
+    is settled. ``mode``: "max" (h_max), "add" (h_add) or "ff" (relaxed plan cost)."""
     if rm.goal_never:
         return math.inf
-    if not additive and rm.uniform_cost is not None and rm.uniform_cost > 0:
+    if mode == "max" and rm.uniform_cost is not None and rm.uniform_cost > 0:
         return _hmax_layered(rm, state, rm.uniform_cost)
+    additive = mode != "max"
     state = relaxed_state(state, rm.n, rm.full)
     goal = [g for g in rm.goal_facts if not (state >> g) & 1]
     if not goal:
@@ -182,12 +186,13 @@ def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
     counts = _open_counts(rm, state)
     pres, adds, costs, users = rm.pres, rm.adds, rm.costs, rm.users
     best: dict[int, float] = {}
+    supporter: dict[int, int] = {}
     heap: list[tuple[float, int]] = []
     for i, c in enumerate(counts):
         if not c:
             for g in adds[i]:
                 if not (state >> g) & 1 and costs[i] < best.get(g, math.inf):
-                    best[g] = costs[i]
+                    best[g], supporter[g] = costs[i], i
                     heap.append((costs[i], g))
     heapq.heapify(heap)
     goal_set = set(goal)
@@ -203,7 +208,7 @@ def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
             total = total + c if additive else c
             remaining -= 1
             if remaining == 0:
-                return total
+                return _relaxed_plan_cost(rm, state, goal, supporter) if mode == "ff" else total
         for i in users[f]:
             counts[i] -= 1
             if counts[i]:
@@ -214,25 +219,45 @@ def _relaxed_cost(rm: RelaxedModel, state: int, additive: bool) -> float:
                 base = c + costs[i]  # settled in non-decreasing order: c is the max
             for g in adds[i]:
                 if not (state >> g) & 1 and base < best.get(g, math.inf):
-                    best[g] = base
+                    best[g], supporter[g] = base, i
                     heapq.heappush(heap, (base, g))
     return math.inf
 
 
-def make_heuristic(name: str, model: GroundModel, unit_cost: bool) -> Heuristic:
+def _relaxed_plan_cost(rm: RelaxedModel, state: int, goal: list[int],
+                       supporter: dict[int, int]) -> float:
+    """Cost of the relaxed plan formed by the best supporters of the goal literals and,
+    recursively, of their preconditions — each relaxed action counted once."""
+    plan: set[int] = set()
+    seen = set(goal)
+    stack = list(goal)
+    while stack:
+        i = supporter[stack.pop()]
+        if i in plan:
+            continue
+        plan.add(i)
+        for p in rm.pres[i]:
+            if p not in seen and not (state >> p) & 1:
+                seen.add(p)
+                stack.append(p)
+    return sum(rm.costs[i] for i in plan)
+
+
+def make_heuristic(name: str, model: GroundModel, unit_cost: bool,
+                   weight: float = 1.0) -> Heuristic:
     """A cached state -> cost-to-go estimate (``inf`` marks a recognised dead end)."""
     if name == "zero":
         return lambda state: 0.0
-    if name not in ("hmax", "hadd"):
+    if name not in ("hmax", "hadd", "hff"):
         raise ValueError(f"unknown heuristic {name!r}; choose one of {', '.join(HEURISTICS)}")
     rm = RelaxedModel(model, unit_cost)
-    additive = name == "hadd"
+    mode = {"hmax": "max", "hadd": "add", "hff": "ff"}[name]
     cache: dict[int, float] = {}
 
     def h(state: int) -> float:
         v = cache.get(state)
         if v is None:
-            v = cache[state] = _relaxed_cost(rm, state, additive)
+            v = cache[state] = weight * _relaxed_cost(rm, state, mode)
         return v
 
     return h

@@ -24,6 +24,9 @@ class SolverOptions:
     seed: int = 0                 # LRTDP trials
     #: (state, action index) pairs the policy must not use.
     forbidden: frozenset[tuple[int, int]] = frozenset()
+    #: heuristic weight (weighted LAO*): > 1 trades optimality for speed; 1 keeps an
+    #: admissible heuristic admissible
+    weight: float = 1.0
 
 
 @dataclass(frozen=True)

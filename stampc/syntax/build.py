@@ -2,11 +2,27 @@
 
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 
 from stampc.diagnostics import Span
 from stampc.syntax import ast
-from stampc.syntax.spans import Args, Clause, conj, flat, is_token, make_span, merge, seq, span_of
+from stampc.syntax.spans import (Args, Clause, conj, fast_constructor, flat, is_token, make_span, merge,
+                                 seq, span_of)
+
+# the nodes made once per name or atom: built without the frozen dataclass ``__init__``
+_Ident = fast_constructor(ast.Ident)
+_Param = fast_constructor(ast.Param)
+_Atom = fast_constructor(ast.Atom)
+_Lit = fast_constructor(ast.Lit)
+_Args = fast_constructor(Args)
+
+
+@functools.lru_cache(maxsize=256)
+def _fraction(text: str) -> Fraction:
+    """``Fraction(text)`` parses a string with a regex; domains repeat the same few
+    numbers, and fractions are immutable, so equal literals share one value."""
+    return Fraction(text)
 
 
 class Builder:
@@ -26,10 +42,10 @@ class Builder:
         return make_span(self.file, tok[2], tok[3], tok[4], tok[5])
 
     def ident(self, tok: tuple) -> ast.Ident:
-        return ast.Ident(tok[1], make_span(self.file, tok[2], tok[3], tok[4], tok[5]))
+        return _Ident(tok[1], make_span(self.file, tok[2], tok[3], tok[4], tok[5]))
 
     def number(self, tok: tuple) -> ast.Number:
-        return ast.Number(Fraction(tok[1]), tok[1], self.tspan(tok))
+        return ast.Number(_fraction(tok[1]), tok[1], self.tspan(tok))
 
     def string(self, tok: tuple) -> ast.String:
         raw = tok[1][1:-1]
@@ -81,7 +97,11 @@ class Builder:
 
     def param_group(self, *names):
         type_ = self.ident(names[-1])
-        return [ast.Param(self.ident(n), type_, merge(self.tspan(n), type_.span))
+        end_line, end_col = type_.span.end_line, type_.span.end_col
+        file, ident, param = self.file, _Ident, _Param
+        # span: from the parameter's name to its type (``merge`` without the extra span)
+        return [param(ident(n[1], make_span(file, n[2], n[3], n[4], n[5])), type_,
+                      make_span(file, n[2], n[3], end_line, end_col))
                 for n in names[:-1]]
 
     def generator_decl(self, name, inputs, _arrow, outputs, *clauses):
@@ -151,8 +171,7 @@ class Builder:
 
     def sample_clause(self, outputs, generator, args):
         gen = self.ident(generator)
-        args = list(args)
-        return Clause("sample", ast.Sample(tuple(outputs), gen, tuple(args), merge(span_of(outputs), gen.span)))
+        return Clause("sample", ast.Sample(tuple(outputs), gen, args.idents, merge(span_of(outputs), gen.span)))
 
     # ------------------------------------------------------------- formulas
     def formula_lines(self, *parts):
@@ -199,18 +218,18 @@ class Builder:
 
     def atom(self, name, args=None):
         pred = self.ident(name)
-        span = merge(pred.span, args.span) if args is not None else pred.span
-        return ast.Atom(pred, tuple(args or ()), span)
+        if args is None:
+            return _Atom(pred, (), pred.span)
+        rpar = args.rpar  # the atom runs from its name to the closing parenthesis
+        return _Atom(pred, args.idents, make_span(self.file, name[2], name[3], rpar[4], rpar[5]))
 
     def args(self, *tokens):
-        """``( a, b )`` → identifiers; the list's ``span`` runs from ``(`` to ``)``."""
+        """``( a, b )`` → identifiers, with the ``)`` token (where the atom ends)."""
         # tokens are "(" NAME... ")" (the commas are filtered), or "(" None ")" when empty
-        ident, file = ast.Ident, self.file
-        out = Args(ident(t[1], make_span(file, t[2], t[3], t[4], t[5]))
-                   for t in tokens[1:-1] if t is not None)
-        first, last = tokens[0], tokens[-1]
-        out.span = make_span(file, first[2], first[3], last[4], last[5])
-        return out
+        ident, file = _Ident, self.file
+        idents = tuple([ident(t[1], make_span(file, t[2], t[3], t[4], t[5]))
+                        for t in tokens[1:-1] if t is not None])
+        return _Args(idents, tokens[-1])
 
     # -------------------------------------------------------------- effects
     def effect_lines(self, *parts):
@@ -226,10 +245,10 @@ class Builder:
         return seq(flat([part]))
 
     def add_effect(self, atom):
-        return ast.Lit(atom, True, atom.span)
+        return _Lit(atom, True, atom.span)
 
     def del_effect(self, atom):
-        return ast.Lit(atom, False, atom.span)
+        return _Lit(atom, False, atom.span)
 
     def unknown_effect(self, atom):
         return ast.Unknown(atom, atom.span)
@@ -283,8 +302,10 @@ class Builder:
 
     def func(self, name, args=None):
         fn = self.ident(name)
-        span = merge(fn.span, args.span) if args is not None else fn.span
-        return ast.FuncApp(fn, tuple(args or ()), span)
+        if args is None:
+            return ast.FuncApp(fn, (), fn.span)
+        rpar = args.rpar
+        return ast.FuncApp(fn, args.idents, make_span(self.file, name[2], name[3], rpar[4], rpar[5]))
 
     # ------------------------------------------------------------- problems
     def object_decl(self, kw, *children):

@@ -16,9 +16,7 @@ in the others. No Lark type leaves this module.
 
 from __future__ import annotations
 
-import contextlib
 import functools
-import gc
 import importlib.resources
 import operator
 import re
@@ -32,6 +30,7 @@ from lark.parsers.lalr_analysis import Shift
 from stampc.diagnostics import Diagnostic, Span, error
 from stampc.syntax import ast
 from stampc.syntax.build import Builder
+from stampc.syntax.gcpause import no_gc_pauses
 from stampc.syntax.layout import LexError, LexerSpec, tokenize
 from stampc.syntax.words import describe_expected, describe_token, hint_for
 
@@ -276,22 +275,6 @@ def parse_source(text: str, file: str = "<string>") -> tuple[ast.Program, list[D
     """Parse ``text``; returns the (possibly partial) program and syntax diagnostics."""
     with no_gc_pauses():
         return _parse_source(text, file)
-
-
-@contextlib.contextmanager
-def no_gc_pauses() -> Iterator[None]:
-    """Suspend the cyclic GC while building large acyclic trees (restores its state).
-
-    AST construction allocates hundreds of thousands of small objects and no cycles;
-    letting the collector scan them repeatedly costs about a third of the parse time.
-    """
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
 
 
 def _parse_source(text: str, file: str) -> tuple[ast.Program, list[Diagnostic]]:

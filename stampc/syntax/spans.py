@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 from stampc.diagnostics import Span
 from stampc.syntax import ast
@@ -34,6 +35,42 @@ def _span_factory():
 make_span = _span_factory()
 
 
+def fast_constructor(cls: type) -> Callable[..., Any]:
+    """A positional constructor for a frozen ``slots`` dataclass with 2 to 4 fields, every
+    field passed. The generated ``__init__`` of a frozen dataclass stores each field with
+    ``object.__setattr__``; filling the slots through their member descriptors builds the
+    same object in about half the time (the parser makes ~300,000 nodes for a large
+    domain). Falls back to ``cls`` itself for any other kind of class."""
+    names = tuple(f.name for f in dataclasses.fields(cls))
+    if vars(cls).get("__slots__") != names or hasattr(cls, "__post_init__") or not 2 <= len(names) <= 4:
+        return cls
+    new = object.__new__
+    setters = [vars(cls)[name].__set__ for name in names]
+    if len(setters) == 2:
+        s0, s1 = setters
+
+        def make2(a, b):
+            obj = new(cls)
+            s0(obj, a), s1(obj, b)
+            return obj
+        return make2
+    if len(setters) == 3:
+        s0, s1, s2 = setters
+
+        def make3(a, b, c):
+            obj = new(cls)
+            s0(obj, a), s1(obj, b), s2(obj, c)
+            return obj
+        return make3
+    s0, s1, s2, s3 = setters
+
+    def make4(a, b, c, d):
+        obj = new(cls)
+        s0(obj, a), s1(obj, b), s2(obj, c), s3(obj, d)
+        return obj
+    return make4
+
+
 def merge(first: Span, last: Span) -> Span:
     if first is _NONE_SPAN:
         return last
@@ -45,6 +82,11 @@ def merge(first: Span, last: Span) -> Span:
 def span_of(item: Any) -> Span:
     """Span of a node, or from the first to the last located node of a sequence."""
     if isinstance(item, list) or (isinstance(item, tuple) and not (item and isinstance(item[0], str))):
+        if item:  # fast path: the ends are nodes with real spans (params, effects, outcomes)
+            first, last = getattr(item[0], "span", None), getattr(item[-1], "span", None)
+            if type(first) is Span and type(last) is Span and first is not _NONE_SPAN \
+                    and last is not _NONE_SPAN:
+                return make_span(first.file, first.line, first.col, last.end_line, last.end_col)
         first = next((s for s in map(span_of, item) if s is not _NONE_SPAN), _NONE_SPAN)
         last = next((s for s in map(span_of, reversed(item)) if s is not _NONE_SPAN), _NONE_SPAN)
         return merge(first, last)
@@ -88,10 +130,12 @@ class Clause:
     value: Any
 
 
-class Args(list):
-    """Arguments of an atom with the span of their parentheses."""
+@dataclass(frozen=True, slots=True)
+class Args:
+    """Arguments of an atom, with the closing parenthesis token (where the atom ends)."""
 
-    span: Span = _NONE_SPAN
+    idents: tuple
+    rpar: tuple
 
 
 def is_token(x: Any, kind: str) -> bool:
