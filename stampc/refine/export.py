@@ -18,28 +18,26 @@ from stampc.refine.options import RefineResult
 from stampc.worlds.base import to_json
 
 POLICY_FORMAT = "stampc-policy"
-POLICY_VERSION = 1
+POLICY_VERSION = 2
 
 
 def _facts(model: GroundModel, mask: int) -> list[str]:
     return [str(model.facts[b]) for b in bits(mask)]
 
 
-def _literals(model: GroundModel, mask: int, values: Mapping[str, Any]) -> list[dict]:
-    out = []
-    for bit in bits(mask):
-        atom = model.facts[bit]
-        out.append({"predicate": atom.predicate, "args": list(atom.args),
-                    "values": [to_json(values[a]) if a in values else a for a in atom.args]})
-    return out
+def _literals(model: GroundModel, mask: int) -> list[dict]:
+    return [{"predicate": model.facts[b].predicate, "args": list(model.facts[b].args)}
+            for b in bits(mask)]
 
 
 def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
                 initial_values: Mapping[str, Any], meta: Mapping[str, Any]) -> dict:
-    """The refined policy: every reachable node with state, action, concrete arguments,
-    outcomes (probabilities, literal effects with concrete values) and refinement status."""
+    """The refined policy: every reachable node with its abstract state, action and
+    arguments, outcomes (probabilities and literal effects), refinement status, learned
+    facts, and — for refined nodes — ``sigma``, the concrete values of the symbols the
+    node's generators produced. A symbol's value on a path is the nearest ``sigma`` above
+    (or at) the node, else ``initial_values``: each concrete value is stored once."""
     nodes = []
-    values_on_path = _values_by_node(graph, initial_values)
     for uid in sorted(graph.reachable()):
         node = graph[uid]
         entry: dict[str, Any] = {
@@ -48,41 +46,26 @@ def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
             "learned": [{"fact": str(model.facts[f]), "value": v} for f, v in node.learned],
         }
         if node.leaf == "goal":
-            entry["goal_facts"] = [{"predicate": model.facts[f].predicate,
-                                    "args": list(model.facts[f].args)}
-                                   for f in bits(model.goal.pos)]
+            entry["goal_facts"] = _literals(model, model.goal.pos)
         if node.action is not None:
             action = model.actions[node.action]
             schema = model.lifted.domain.actions[action.schema]
-            env = {**values_on_path[uid], **(node.sigma or {})}
             entry["action"] = action.label
             entry["action_name"] = action.name
-            entry["args"] = {p.name: {"symbol": a, "value": to_json(env[a]) if a in env else None}
-                             for p, a in zip(schema.params, action.args)}
+            entry["args"] = {p.name: a for p, a in zip(schema.params, action.args)}
+            if node.sigma is not None:
+                entry["sigma"] = {k: to_json(v) for k, v in sorted(node.sigma.items())}
             entry["outcomes"] = [{
                 "probability": e.probability, "child": e.child,
-                "adds": _literals(model, e.successor.add, env),
-                "deletes": _literals(model, e.successor.delete & ~e.successor.add, env),
+                "adds": _literals(model, e.successor.add),
+                "deletes": _literals(model, e.successor.delete & ~e.successor.add),
             } for e in node.edges]
         nodes.append(entry)
     return {"format": POLICY_FORMAT, "version": POLICY_VERSION, **dict(meta),
             "seed": result.seed, "root": graph.root, "coverage": round(result.coverage, 12),
-            "goal_probability": round(result.goal_probability, 12), "nodes": nodes}
-
-
-def _values_by_node(graph: PolicyGraph, initial: Mapping[str, Any]) -> dict[int, dict]:
-    """Symbol values bound above each node (first path found, breadth-first)."""
-    out = {graph.root: dict(initial)}
-    queue = [graph.root]
-    while queue:
-        uid = queue.pop(0)
-        node = graph[uid]
-        env = {**out[uid], **(node.sigma or {})}
-        for e in node.edges:
-            if e.child not in out:
-                out[e.child] = env
-                queue.append(e.child)
-    return out
+            "goal_probability": round(result.goal_probability, 12),
+            "initial_values": {k: to_json(v) for k, v in sorted(initial_values.items())},
+            "nodes": nodes}
 
 
 def policy_dot(model: GroundModel, graph: PolicyGraph) -> str:

@@ -54,17 +54,24 @@ def _decode(world: Any, data: Any) -> Any:
     return decode(data) if decode is not None else data
 
 
-def concrete_action(world: Any, node: Mapping, outcome_index: int) -> ConcreteAction:
-    args = {name: (_decode(world, a["value"]) if a["value"] is not None else a["symbol"])
-            for name, a in node["args"].items()}
+def _decoded(world: Any, values: Mapping[str, Any]) -> dict[str, Any]:
+    return {name: _decode(world, data) for name, data in values.items()}
+
+
+def concrete_action(node: Mapping, outcome_index: int, env: Mapping[str, Any]) -> ConcreteAction:
+    """The node's action with its symbols replaced by their values in ``env``."""
+    def value(name: str) -> Any:
+        return env.get(name, name)
+
     outcome = node["outcomes"][outcome_index]
 
     def literals(items):
-        return tuple((lit["predicate"], tuple(_decode(world, v) for v in lit["values"]))
-                     for lit in items)
+        return tuple((lit["predicate"], tuple(value(a) for a in lit["args"])) for lit in items)
 
-    return ConcreteAction(name=node["action_name"], args=args, adds=literals(outcome["adds"]),
-                          deletes=literals(outcome["deletes"]), outcome=outcome_index)
+    return ConcreteAction(name=node["action_name"],
+                          args={p: value(a) for p, a in node["args"].items()},
+                          adds=literals(outcome["adds"]), deletes=literals(outcome["deletes"]),
+                          outcome=outcome_index)
 
 
 def replay(policy: Mapping, world: Any, executors: Mapping[str, Callable], *, runs: int,
@@ -73,18 +80,21 @@ def replay(policy: Mapping, world: Any, executors: Mapping[str, Callable], *, ru
     """Run the policy ``runs`` times; ``on_step(run, step, world)`` is called after
     each executed action (e.g. to render frames)."""
     nodes = {n["id"]: n for n in policy["nodes"]}
+    sigmas = {n["id"]: _decoded(world, n["sigma"]) for n in policy["nodes"] if "sigma" in n}
+    start_env = _decoded(world, policy.get("initial_values", {}))
     initial = world.snapshot()
     rng = random.Random(seed)
     records = []
     for run in range(runs):
         world.restore(initial)
-        records.append(_one_run(nodes, policy["root"], world, executors, rng, run,
-                                max_steps, on_step))
+        records.append(_one_run(nodes, sigmas, dict(start_env), policy["root"], world,
+                                executors, rng, run, max_steps, on_step))
     world.restore(initial)
     return ReplayReport(tuple(records))
 
 
-def _one_run(nodes, root, world, executors, rng, run, max_steps, on_step) -> RunRecord:
+def _one_run(nodes, sigmas, env, root, world, executors, rng, run, max_steps,
+             on_step) -> RunRecord:
     node = nodes[root]
     done: list[str] = []
     for step in range(max_steps):
@@ -95,13 +105,14 @@ def _one_run(nodes, root, world, executors, rng, run, max_steps, on_step) -> Run
             return RunRecord(status, step, tuple(done))
         if not node["refined"]:
             return RunRecord(UNREFINED, step, tuple(done), node["action"])
+        env.update(sigmas.get(node["id"], {}))
         weights = [o["probability"] for o in node["outcomes"]]
         k = rng.choices(range(len(weights)), weights=weights)[0]
         fn = executors.get(node["action_name"])
         if fn is not None:
             ctx = Context(world=world, rng=random.Random(rng.random()), options={}, cache={})
             try:
-                fn(ctx, concrete_action(world, node, k))
+                fn(ctx, concrete_action(node, k, env))
             except Exception as exc:  # a concrete step failing is a failed run, not a crash
                 return RunRecord(FAILURE, step, tuple(done), f"{node['action']}: {exc}")
         done.append(node["action"])

@@ -55,14 +55,15 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
             if x not in expanded:
                 search.expand(x)
                 expansions += 1
+                rose = x not in terminal and search.backup(x) > epsilon
+                # check the clock only once x is backed up: a timed-out search stays a
+                # consistent warm start (every expanded node has its greedy action)
                 if expansions % _TIME_CHECK_EVERY == 0:
                     search.check_time()
-                if x in terminal:
-                    continue
-                if search.backup(x) > epsilon or not dive:
-                    continue  # the estimate rose: let the parents reconsider first
+                if x in terminal or rose or not dive:
+                    continue  # a rising estimate lets the parents reconsider first
             stack.append(-x - 1)
-            bi = best[x]
+            bi = best.get(x, -1)
             if bi >= 0:
                 for n in expanded[x][bi][3]:
                     if n not in visited:
