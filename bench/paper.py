@@ -167,9 +167,10 @@ def run_job(job: Job) -> RunRecord:
     coverage = float(data["coverage"])
     wall = float(data["wall_time_s"])
     # a policy whose every branch is a dead end is "covered" but solves nothing
-    reaches_goal = float(data["goal_probability"]) > 0.0
-    solved = coverage >= 1.0 - 1e-9 and wall <= job.timeout_s and reaches_goal
-    status = ("solved" if solved else "unsolvable" if not reaches_goal
+    unsolvable = data.get("stop_reason") == "abstract goal unreachable"
+    solved = (coverage >= 1.0 - 1e-9 and wall <= job.timeout_s and not unsolvable
+              and float(data["goal_probability"]) > 0.0)
+    status = ("solved" if solved else "unsolvable" if unsolvable
               else "timeout" if wall >= job.timeout_s else "partial")
     return RunRecord(**base, status=status, coverage=coverage,
                      goal_probability=float(data["goal_probability"]), wall_time_s=wall,

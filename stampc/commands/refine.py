@@ -26,11 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="probability of UpdateAbstraction mode (default 0.5)")
     parser.add_argument("--explore-probability", type=float, default=0.05,
                         help="probability of the explore step (default 0.05)")
-    parser.add_argument("--heuristic", default="hff", choices=("hff", "hadd", "hmax", "zero"),
-                        help="abstract solver heuristic (default hff: relaxed plan cost)")
-    parser.add_argument("--weight", type=float, default=3.0,
-                        help="heuristic weight of the abstract solver (default 3; 1 = optimal "
-                             "with an admissible heuristic)")
+    parser.add_argument("--heuristic", default="hadd", choices=("hadd", "hff", "hmax", "zero"),
+                        help="abstract solver heuristic (default hadd, with an h_FF fallback "
+                             "when it finds no way to the goal)")
+    parser.add_argument("--weight", type=float, default=1.0,
+                        help="heuristic weight of the abstract solver (default 1)")
     parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
                         help="override a scene-builder argument (repeatable)")
     parser.add_argument("-o", "--output", metavar="DIR", help="write policy.json, coverage.csv, "

@@ -46,7 +46,7 @@ class Engine:
         self.options = options
         self.rng = random.Random(options.seed)
         self.uids = itertools.count()
-        self.planner = AbstractPlanner(model, options.solver, self.uids)
+        self.planner = AbstractPlanner(model, options.solver, self.uids, options.fallback_solver)
         self.concretizer = Concretizer(model, bindings, world, options.seed)
         self.initial_values = dict(world.initial_values())
         self.prg = nx.DiGraph()

@@ -19,12 +19,15 @@ from stampc.solvers import Solution, SolverOptions, policy_tree, solve
 
 
 class AbstractPlanner:
-    def __init__(self, model: GroundModel, options: SolverOptions, uids: Iterator[int]):
+    def __init__(self, model: GroundModel, options: SolverOptions, uids: Iterator[int],
+                 fallback: SolverOptions | None = None):
         self.model = model
         # The engine unrolls stationary policies to its own (growing) horizon, so the
         # problem's horizon must not turn every re-solve into a time-indexed one.
         self.solve_model = replace(model, horizon=None) if model.horizon is not None else model
-        self.options = options
+        #: solver settings tried in order: when one finds no way to the goal (e.g. h_add
+        #: overestimating a long chain past the dead-end cost) the next one is tried
+        self.chain = (options,) + ((fallback,) if fallback is not None else ())
         #: absolute time.perf_counter() deadline for solver calls (the engine's time limit)
         self.deadline: float | None = None
         #: cap on a single solve, in seconds
@@ -32,21 +35,30 @@ class AbstractPlanner:
         self.uids = uids
         self.solves = 0
         self.solve_time_s = 0.0
-        self._last: Solution | None = None
+        self._last: dict[str, Solution] = {}
         self.forbidden: set[tuple[int, int]] = set()
 
     def solve_from(self, state: int) -> Solution:
-        opts = replace(self.options, forbidden=frozenset(self.forbidden)) if self.forbidden else self.options
+        solution = None
+        for options in self.chain:
+            solution = self._solve_with(options, state)
+            if solution.goal_probability > 0.0:
+                break
+        return solution
+
+    def _solve_with(self, options: SolverOptions, state: int) -> Solution:
+        opts = replace(options, forbidden=frozenset(self.forbidden)) if self.forbidden else options
         budget = [b for b in (self.solve_time_limit, self.deadline and
                               max(0.05, self.deadline - time.perf_counter())) if b]
         if budget:
             opts = replace(opts, time_limit=min(budget))
-        warm = self._last if (self._last is not None and not self.forbidden) else None
+        key = f"{options.heuristic}:{options.weight}"
+        warm = self._last.get(key) if not self.forbidden else None
         solution = solve(self.solve_model, opts, init=state, warm=warm)
         self.solves += 1
         self.solve_time_s += solution.solve_time_s
         if not self.forbidden:
-            self._last = solution
+            self._last[key] = solution
         return solution
 
     def graft(self, graph: PolicyGraph, state: int, depth: int, horizon: int,

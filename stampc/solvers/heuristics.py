@@ -11,9 +11,9 @@ Disjunctions contribute nothing — which, like the relaxation itself, only lowe
 
 - ``zero``: 0 everywhere (admissible).
 - ``hmax``: max over preconditions (admissible when costs are non-negative).
-- ``hff``: the cost of a relaxed plan extracted from h_add's best supporters (each
-  relaxed action counted once) — INADMISSIBLE; unlike h_add it does not double-count
-  shared sub-goals, so long chains (stacking planks) are not overestimated.
+- ``hff``: the cost of a relaxed plan extracted from h_max's best supporters (each
+  relaxed action counted once, as in FF) — INADMISSIBLE; unlike h_add it does not
+  double-count shared sub-goals, so long chains (stacking planks) are not overestimated.
 - ``hadd``: sum over preconditions — INADMISSIBLE, usually much more informed; LAO* and
   LRTDP then return fast but possibly suboptimal policies.
 
@@ -178,7 +178,9 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
         return math.inf
     if mode == "max" and rm.uniform_cost is not None and rm.uniform_cost > 0:
         return _hmax_layered(rm, state, rm.uniform_cost)
-    additive = mode != "max"
+    # h_FF takes its supporters from the h_max propagation (as FF's planning graph does):
+    # a max costs O(1) per relaxed action where a sum walks every precondition
+    additive = mode == "add"
     state = relaxed_state(state, rm.n, rm.full)
     goal = [g for g in rm.goal_facts if not (state >> g) & 1]
     if not goal:
