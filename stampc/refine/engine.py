@@ -27,7 +27,7 @@ from typing import Any, Iterator
 import networkx as nx
 
 from stampc.ir.grounded import GroundModel
-from stampc.refine.concretize import Concretizer, Failure, Success
+from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
 from stampc.refine.graph import (GOAL, HORIZON, Concrete, Node, PolicyGraph, abstract_goal_probability,
                                  coverage, goal_probability, iter_leaf_paths, path_is_covered,
                                  path_values, select_path)
@@ -59,6 +59,7 @@ class Engine:
         self.events: list[ProgressEvent] = []
         self.crossed: dict[str, float | None] = {str(t): None for t in THRESHOLDS}
         self.stop_reason = "running"
+        self._action_costs: dict[int, float] = {}
         self._start = time.perf_counter()
 
     # ------------------------------------------------------------- driving
@@ -168,10 +169,14 @@ class Engine:
             return float(self.horizon) if node.leaf == HORIZON else 0.0
         if node.refined:
             return 0.0
-        action = self.model.actions[node.action]
-        gens = {g.name: g for g in self.model.lifted.domain.generators}
-        size = sum(int(dict(gens[u.generator].options).get("budget", 4)) for u in action.generated)
-        return 1.0 + size
+        cost = self._action_costs.get(node.action)
+        if cost is None:  # 1 + the generator budgets (domain sizes) the action draws from
+            budgets = {g.name: int(dict(g.options).get("budget", DEFAULT_BUDGET))
+                       for g in self.model.lifted.domain.generators}
+            action = self.model.actions[node.action]
+            cost = self._action_costs[node.action] = 1.0 + sum(
+                budgets[u.generator] for u in action.generated)
+        return cost
 
     def _extend(self, graph: PolicyGraph, leaf: Node) -> tuple[str, str]:
         """Dynamic horizon growth: replace a horizon leaf by a freshly planned subtree."""
