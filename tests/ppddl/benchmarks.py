@@ -33,7 +33,7 @@ def domains() -> list[str]:
     return rows or [MISSING]
 
 
-def ground_instances(per_directory: int = 2) -> list[str]:
+def ground_instances(per_directory: int = 10) -> list[str]:
     """The ``per_directory`` instances with the fewest objects (MANIFEST ``objects``
     column; ties in manifest order) of every benchmark directory."""
     rows = [r for r in manifest_rows() if r["kind"] in ("problem", "domain+problem")]
