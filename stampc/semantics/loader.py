@@ -6,7 +6,6 @@ Never imports or runs user code: bindings stay strings.
 
 from __future__ import annotations
 
-import importlib.resources
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -25,12 +24,10 @@ def stdlib_dir() -> Path | None:
     local = Path(__file__).resolve().parents[2] / "stdlib"
     if local.is_dir():
         return local
-    try:
-        installed = importlib.resources.files("stampc.stdlib")
-    except ModuleNotFoundError:
-        return None
-    path = Path(str(installed))
-    return path if path.is_dir() else None
+    # installed: packaging maps stdlib/ to stampc/stdlib (a namespace package, so
+    # importlib.resources would hand back a MultiplexedPath, not a directory)
+    installed = Path(__file__).resolve().parents[1] / "stdlib"
+    return installed if installed.is_dir() else None
 
 
 @dataclass(frozen=True)
