@@ -66,14 +66,7 @@ class Search:
     def backup(self, node: int) -> float:
         """Bellman backup of an expanded node; returns |change|."""
         V = self.V
-        bq = self.dead_end_cost
-        bi = -1
-        for i, (_, c, probs, nexts) in enumerate(self.expanded[node]):
-            q = c
-            for p, n in zip(probs, nexts):
-                q += p * V[n]
-            if q < bq:
-                bq, bi = q, i
+        bq, bi = self.greedy(node)
         old = V[node]
         V[node] = bq
         self.best[node] = bi

@@ -23,7 +23,6 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
     """
     search.seed(init)
     V, best, terminal, expanded = search.V, search.best, search.terminal, search.expanded
-    D = search.dead_end_cost
     while init not in terminal:
         search.iterations += 1
         expansions = 0
@@ -35,14 +34,7 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
             x = stack.pop()
             if x < 0:  # post-visit marker: Bellman backup
                 x = -x - 1
-                bq = D
-                bi = -1
-                for i, (_, c, probs, nexts) in enumerate(expanded[x]):
-                    q = c
-                    for p, n in zip(probs, nexts):
-                        q += p * V[n]
-                    if q < bq:
-                        bq, bi = q, i
+                bq, bi = search.greedy(x)
                 old = V[x]
                 d = bq - old if bq > old else old - bq
                 if d > residual:
