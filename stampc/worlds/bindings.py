@@ -1,6 +1,7 @@
 """Resolve ``"pkg.module:function"`` bindings to callables — the only place that does.
 
-``check``/``compile`` never come here. Refinement and execution resolve every binding a
+``check``/``compile`` never come here. A bound module that is not on ``sys.path`` is
+found as a file beside the stamp file that binds it (see :mod:`stampc.worlds.modules`). Refinement and execution resolve every binding a
 model declares up front, so that a missing module, a missing function or a signature that
 cannot accept the declared arguments is reported as a located diagnostic before any
 planning starts (and never as a traceback in the middle of a run).
@@ -8,13 +9,14 @@ planning starts (and never as a traceback in the middle of a run).
 
 from __future__ import annotations
 
-import importlib
 import inspect
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable, Mapping
 
 from stampc.diagnostics import Diagnostic, Span, StampcError, error
 from stampc.ir.lifted import Binding, Model
+from stampc.worlds.modules import import_bound_module
 
 WORLD_PACKAGES = {
     "plane2d": "stampc.worlds.plane2d",
@@ -41,6 +43,14 @@ def _span(binding: Binding) -> Span:
     return binding.span or Span.point("<model>")
 
 
+def _declaring_folder(binding: Binding) -> Path | None:
+    """The folder of the stamp file that declares ``binding`` (where a module that is not
+    on ``sys.path`` is looked up as a file); None for bindings made in code."""
+    if binding.span is None or binding.span.file.startswith("<"):
+        return None
+    return Path(binding.span.file).parent
+
+
 def resolve(binding: Binding, world_package: str, n_args: int, what: str,
             diags: list[Diagnostic]) -> Callable | None:
     """Import one binding; check it accepts ``ctx`` plus ``n_args`` positional arguments."""
@@ -51,11 +61,17 @@ def resolve(binding: Binding, world_package: str, n_args: int, what: str,
                            _span(binding), hint='write "package.module:function"'))
         return None
     try:
-        module = importlib.import_module(module_name)
+        module = import_bound_module(module_name, _declaring_folder(binding))
     except Exception as exc:  # any import-time failure of user code is reported, not raised
         diags.append(error("B102", f"cannot import module {module_name!r} bound by {what}: "
                            f"{type(exc).__name__}: {exc}", _span(binding),
                            hint="check the module path and that it is importable"))
+        return None
+    if module is None:
+        diags.append(error("B102", f"cannot find module {module_name!r} bound by {what}",
+                           _span(binding), hint="make it importable, or place "
+                           f"{module_name.replace('.', '/')}.py in the folder of the file "
+                           "that binds it or one of its parents"))
         return None
     fn = getattr(module, func_name, None)
     if not callable(fn):

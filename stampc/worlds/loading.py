@@ -10,15 +10,14 @@ works from a source checkout without installing the examples).
 from __future__ import annotations
 
 import importlib
-import importlib.util
 import json
 from pathlib import Path
-from types import ModuleType
 from typing import Any, Mapping
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.lifted import Problem, SceneRef
 from stampc.worlds.bindings import world_package
+from stampc.worlds.modules import import_bound_module
 
 
 def _fail(code: str, message: str, ref: SceneRef | None, hint: str | None = None):
@@ -26,36 +25,19 @@ def _fail(code: str, message: str, ref: SceneRef | None, hint: str | None = None
     raise StampcError([error(code, message, span, hint=hint)])
 
 
-def _module_from_file(module_name: str, base_dir: Path) -> ModuleType | None:
-    rel = Path(*module_name.split(".")).with_suffix(".py")
-    for folder in (base_dir, *base_dir.parents):
-        candidate = folder / rel
-        if candidate.is_file():
-            spec = importlib.util.spec_from_file_location(module_name, candidate)
-            if spec is None or spec.loader is None:
-                return None
-            module = importlib.util.module_from_spec(spec)
-            spec.loader.exec_module(module)
-            return module
-    return None
-
-
 def _import_builder(ref: SceneRef, base_dir: Path):
     module_name, sep, func_name = ref.target.partition(":")
-    if not sep:
+    if not sep or not module_name or not func_name:
         _fail("S102", f"malformed scene builder {ref.target!r}", ref, 'write "package.module:function"')
     try:
-        module = importlib.import_module(module_name)
-    except ModuleNotFoundError:
-        try:
-            module = _module_from_file(module_name, base_dir)
-        except Exception as exc:  # user code failing at import time is reported
-            _fail("S103", f"scene builder module {module_name!r} failed to load: {exc}", ref)
-        if module is None:
-            _fail("S103", f"cannot find scene builder module {module_name!r}", ref,
-                  "make it importable or place it relative to the problem file")
-    except Exception as exc:
-        _fail("S103", f"scene builder module {module_name!r} failed to import: {exc}", ref)
+        module = import_bound_module(module_name, base_dir)
+    except Exception as exc:  # user code failing at import time is reported, not raised
+        _fail("S103", f"scene builder module {module_name!r} failed to load: "
+              f"{type(exc).__name__}: {exc}", ref)
+    if module is None:
+        _fail("S103", f"cannot find scene builder module {module_name!r}", ref,
+              f"make it importable, or place {module_name.replace('.', '/')}.py in the "
+              "problem file's folder or one of its parents")
     fn = getattr(module, func_name, None)
     if not callable(fn):
         _fail("S104", f"module {module_name!r} has no function {func_name!r}", ref)
