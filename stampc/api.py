@@ -19,11 +19,11 @@ from stampc.ir.lifted import Model
 
 
 def _paths(files: Sequence[str | Path]) -> list[Path]:
-    paths = [Path(f) for f in files]
-    for p in paths:
-        if not p.is_file():
-            raise FileNotFoundError(f"no such file: {p}")
-    return paths
+    """The input files; ``OSError`` for a missing path or a directory, ``StampcError``
+    (I001/I002) for a binary, non-UTF-8 or empty file (see :mod:`stampc.inputs`)."""
+    from stampc.inputs import check_input_files, existing_file
+
+    return check_input_files([existing_file(Path(f)) for f in files])
 
 
 def compile(domain: str | Path, problem: str | Path | None = None) -> Model:  # noqa: A001
@@ -91,18 +91,19 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
     """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``."""
     from stampc.refine import RefineOptions, run_refinement
     from stampc.worlds.bindings import resolve_model
-    from stampc.worlds.loading import load_scene, open_world
+    from stampc.worlds.loading import load_scene, open_world, scene_origin
 
     options = options or RefineOptions()
     paths = _paths(files)
     model = load_model(paths)
     gm = ground(model)
     scene = load_scene(model.problem, paths[-1].parent, scene_overrides)
-    w = open_world(world, scene, seed=options.seed, verbose=verbose)
+    w = open_world(world, scene, seed=options.seed, verbose=verbose,
+                   origin=scene_origin(model.problem, paths[-1].parent))
     try:
         bindings = resolve_model(model, w.package)
         meta = {"domain": model.domain.name, "problem": model.problem.name, "world": world,
-                "files": [str(p) for p in paths], "scene": scene}
+                "files": [str(p.resolve()) for p in paths], "scene": scene}
         return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta)
     finally:
         w.close()

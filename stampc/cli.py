@@ -1,8 +1,11 @@
 """The ``stampc`` command line: one subcommand per pipeline stage.
 
 Each subcommand lives in ``stampc/commands/<name>.py`` and exposes
-``HELP: str``, ``add_arguments(parser)`` and ``run(args) -> int``. Exit codes:
-0 success, 1 diagnostics with errors (or failed run), 2 usage or I/O errors.
+``HELP: str``, ``add_arguments(parser)`` and ``run(args) -> int``. Exit codes, the same
+for every command: 0 done, 1 input errors, 2 usage or I/O errors, 3 ran but stopped short
+(partial result written). A command reports bad input by raising :class:`StampcError`
+(exit 1) and unreadable or unwritable files by raising ``OSError`` (exit 2); ``main``
+prints both, so no command can end in a traceback for either.
 """
 
 from __future__ import annotations
@@ -13,6 +16,9 @@ import importlib.util
 import sys
 
 from stampc import __version__
+from stampc.commands.common import (EXIT_CODES_HELP, EXIT_USAGE, fail_with,
+                                    io_error_message)
+from stampc.diagnostics import StampcError
 
 COMMANDS = ("check", "fmt", "compile", "solve", "refine", "execute")
 
@@ -21,6 +27,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="stampc",
         description="stampc: stochastic task and motion planning toolkit",
+        epilog=EXIT_CODES_HELP,
     )
     parser.add_argument("--version", action="version", version=f"stampc {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
@@ -29,7 +36,8 @@ def build_parser() -> argparse.ArgumentParser:
         if importlib.util.find_spec(module_name) is None:
             continue  # command not part of this build
         module = importlib.import_module(module_name)
-        cmd = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        cmd = sub.add_parser(name, help=module.HELP, description=module.HELP,
+                             epilog=EXIT_CODES_HELP)
         module.add_arguments(cmd)
         cmd.set_defaults(_run=module.run)
     return parser
@@ -40,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if not getattr(args, "_run", None):
         parser.print_help()
-        return 2
+        return EXIT_USAGE
     try:
         return int(args._run(args))
     except KeyboardInterrupt:
@@ -48,6 +56,11 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
+    except StampcError as exc:
+        return fail_with(exc)
+    except OSError as exc:
+        print(io_error_message(args.command, exc), file=sys.stderr)
+        return EXIT_USAGE
 
 
 if __name__ == "__main__":  # pragma: no cover

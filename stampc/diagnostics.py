@@ -9,6 +9,7 @@ carrying them.
 from __future__ import annotations
 
 import json
+import unicodedata
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Iterable, Sequence
@@ -146,10 +147,33 @@ def _quote(span: Span, sources: SourceCache, _prefix: str) -> list[str]:
     if text is None:
         return []
     text = text.expandtabs(4) if "\t" not in text[: span.col] else text
+    text, col = _window(_printable(text), span.col)
     gutter = f"{span.line:>4} | "
-    width = max(1, (span.end_col - span.col) if span.end_line == span.line else len(text) - span.col + 1)
-    caret = " " * (len(gutter) - 2) + "| " + " " * (span.col - 1) + "^" * width
+    end_col = span.end_col - (span.col - col)
+    width = max(1, (end_col - col) if span.end_line == span.line else len(text) - col + 1)
+    caret = " " * (len(gutter) - 2) + "| " + " " * (col - 1) + "^" * min(width, QUOTE_WIDTH)
     return [gutter + text, caret]
+
+
+QUOTE_WIDTH = 160  # longer source lines (minified or binary input) are quoted in part
+
+
+def _window(text: str, col: int) -> tuple[str, int]:
+    """At most QUOTE_WIDTH characters of ``text`` around column ``col`` (and its new column)."""
+    if len(text) <= QUOTE_WIDTH:
+        return text, col
+    start = max(0, min(col - 1 - QUOTE_WIDTH // 4, len(text) - QUOTE_WIDTH))
+    shown = text[start:start + QUOTE_WIDTH]
+    prefix = "…" if start > 0 else ""
+    suffix = "…" if start + QUOTE_WIDTH < len(text) else ""
+    return prefix + shown + suffix, col - start + len(prefix)
+
+
+def _printable(text: str) -> str:
+    """Control characters (NULs of a binary file, escape codes) never reach the terminal;
+    each becomes one U+FFFD so that carets stay aligned."""
+    return "".join(c if c == "\t" or unicodedata.category(c)[0] != "C" else "\ufffd"
+                   for c in text)
 
 
 def render_json(diags: Sequence[Diagnostic]) -> str:

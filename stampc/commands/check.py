@@ -6,10 +6,10 @@ import argparse
 import sys
 from pathlib import Path
 
-from stampc.commands.common import read_source
+from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input
 from stampc.diagnostics import Severity, SourceCache, StampcError, render_human, render_json, summary_line
 from stampc.semantics.api import analyze, unique_sorted
-from stampc.semantics.loader import display_name, source_from_text
+from stampc.semantics.loader import source_from_text
 
 HELP = "check stamp domains and problems for errors and warnings"
 
@@ -23,20 +23,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    sources = []
+    sources, unreadable = [], []
     for name in args.files:
-        path = Path(name)
-        text = read_source(name, "check")
-        if text is None:
-            return 2
-        sources.append(source_from_text(text, display_name(path), path))
+        try:
+            text, shown = read_input(name)
+        except StampcError as exc:  # binary or empty: reported with the other diagnostics
+            unreadable.extend(exc.diagnostics)
+            continue
+        sources.append(source_from_text(text, shown, Path(name)))
     try:
-        programs = analyze(sources)
+        programs = analyze(sources) if sources else []
     except StampcError as exc:  # defensive: the analysis reports problems as diagnostics
         programs = []
         diags = list(exc.diagnostics)
     else:
-        diags = unique_sorted([d for p in programs for d in p.diagnostics])
+        diags = [d for p in programs for d in p.diagnostics]
+    diags = unique_sorted(unreadable + diags)
     cache = SourceCache()
     for program in programs:
         for file, text in program.sources.items():
@@ -51,4 +53,4 @@ def run(args: argparse.Namespace) -> int:
     failed = any(d.severity is Severity.ERROR for d in diags)
     if args.strict:
         failed = failed or any(d.severity is Severity.WARNING for d in diags)
-    return 1 if failed else 0
+    return EXIT_INPUT if failed else EXIT_DONE

@@ -1,13 +1,21 @@
-"""Small helpers shared by the CLI subcommands."""
+"""Small helpers shared by the CLI subcommands: exit codes, option types, input files."""
 
 from __future__ import annotations
 
 import argparse
 import ast
+import math
 import sys
 from pathlib import Path
+from typing import Callable
 
 from stampc.diagnostics import SourceCache, StampcError, render_human, sort_key, summary_line
+
+#: exit codes, the same for every command (README "Command line", ``stampc CMD --help``)
+EXIT_DONE, EXIT_INPUT, EXIT_USAGE, EXIT_STOPPED_SHORT = 0, 1, 2, 3
+EXIT_CODES_HELP = ("exit codes: 0 done; 1 input errors (located diagnostics); 2 usage or I/O "
+                   "errors; 3 ran but stopped short (time limit before convergence, or below "
+                   "the target coverage), with the partial result written")
 
 
 def add_input_arguments(parser: argparse.ArgumentParser) -> None:
@@ -16,14 +24,77 @@ def add_input_arguments(parser: argparse.ArgumentParser) -> None:
                              "for problem-only files), or domain.pddl problem.pddl")
 
 
-def read_source(name: str, command: str) -> str | None:
-    """The text of file ``name``, or None after printing why it cannot be read (exit 2)."""
+def io_error_message(command: str, exc: OSError) -> str:
+    """``stampc CMD: error: FILE: reason`` for a file that cannot be read or written."""
+    if exc.strerror is None:  # raised with a whole message (stampc.inputs)
+        return f"stampc {command}: error: {exc}"
+    where = f"{exc.filename}: " if exc.filename else ""
+    return f"stampc {command}: error: {where}{exc.strerror}"
+
+
+# ---------------------------------------------------------------- option value types
+# argparse turns an ArgumentTypeError into "argument --x: <message>" and exit 2.
+
+def _number(text: str, convert: Callable[[str], float]) -> float:
     try:
-        return Path(name).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not UTF-8 text"
-        print(f"stampc {command}: error: cannot read {name}: {reason}", file=sys.stderr)
-        return None
+        return convert(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+
+
+def positive_float(text: str) -> float:
+    """Seconds, costs, tolerances: finite and > 0 (0, -5, nan and inf are usage errors)."""
+    value = _number(text, float)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text!r}")
+    return value
+
+
+def positive_int(text: str) -> int:
+    """Counts and horizons: an integer >= 1."""
+    value = _number(text, int)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return int(value)
+
+
+def count(text: str) -> int:
+    """A count where 0 means none: an integer >= 0."""
+    value = _number(text, int)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}")
+    return int(value)
+
+
+def probability(text: str) -> float:
+    value = _number(text, float)
+    if not 0.0 <= value <= 1.0:  # also rejects nan
+        raise argparse.ArgumentTypeError(f"must be a probability within [0, 1], got {text!r}")
+    return value
+
+
+def target_coverage(text: str) -> float:
+    value = _number(text, float)
+    if not 0.0 < value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be within (0, 1], got {text!r}")
+    return value
+
+
+def heuristic_weight(text: str) -> float:
+    value = _number(text, float)
+    if not (math.isfinite(value) and value >= 1.0):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 1, got {text!r}")
+    return value
+
+
+def read_input(name: str) -> tuple[str, str]:
+    """(text, shown name) of an input file; ``OSError`` (exit 2) when it cannot be read,
+    ``StampcError`` I001/I002 (exit 1) when it is not text or empty."""
+    from stampc.inputs import display_name, read_input_text
+
+    path = Path(name)
+    shown = display_name(path)
+    return read_input_text(path, shown), shown
 
 
 def fail_with(exc: StampcError) -> int:

@@ -4,20 +4,20 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
-from stampc.commands.common import fail_with
-from stampc.diagnostics import StampcError
+from stampc.commands.common import EXIT_DONE, EXIT_STOPPED_SHORT, positive_int
+from stampc.diagnostics import Span, StampcError, error
 
 HELP = "replay a refined policy (policy.json) in its concrete world and report success"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("policy", metavar="POLICY.json")
-    parser.add_argument("--runs", type=int, default=20)
+    parser.add_argument("--runs", type=positive_int, default=20)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--max-steps", type=int, default=500)
+    parser.add_argument("--max-steps", type=positive_int, default=500,
+                        help="step cap per run (default 500)")
     parser.add_argument("--render", metavar="DIR", help="write PNG frames and an animated GIF "
                         "of the first run here")
     parser.add_argument("--format", choices=("text", "json"), default="text")
@@ -25,34 +25,42 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _load_policy(path: Path) -> dict:
-    data = json.loads(path.read_text(encoding="utf-8"))
-    if data.get("format") != "stampc-policy":
-        raise ValueError(f"{path} is not a stampc policy file")
+    """The policy written by ``stampc refine -o``; I003 when the file is not one."""
+    from stampc.inputs import display_name, read_input_text
+
+    shown = display_name(path)
+    text = read_input_text(path, shown)
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise _not_a_policy(f"not valid JSON: {exc.msg}", Span.point(shown, exc.lineno, exc.colno))
+    missing = [k for k in ("files", "world", "scene") if not isinstance(data, dict) or k not in data]
+    if not isinstance(data, dict) or data.get("format") != "stampc-policy" or missing:
+        raise _not_a_policy("not a stampc policy file" + (f" (no {', '.join(missing)})"
+                                                          if missing else ""), Span.point(shown))
     return data
+
+
+def _not_a_policy(message: str, span: Span) -> StampcError:
+    return StampcError([error("I003", message, span,
+                              hint="pass the policy.json written by `stampc refine -o DIR`")])
 
 
 def run(args: argparse.Namespace) -> int:
     from stampc import api
     from stampc.refine.replay import replay
     from stampc.worlds.bindings import resolve_model
-    from stampc.worlds.loading import open_world
+    from stampc.worlds.loading import SceneOrigin, open_world
 
-    if args.runs < 1:
-        print("stampc execute: --runs must be at least 1", file=sys.stderr)
-        return 2
-    try:
-        policy = _load_policy(Path(args.policy))
-    except (OSError, ValueError) as exc:
-        print(f"stampc execute: cannot read policy: {exc}", file=sys.stderr)
-        return 2
+    # bad input (StampcError, exit 1) and unreadable files (OSError, 2): cli.main reports
+    policy = _load_policy(Path(args.policy))
     try:
         model = api.load_model(policy["files"])
-        world = open_world(policy["world"], policy["scene"], seed=args.seed, verbose=args.verbose)
-    except StampcError as exc:
-        return fail_with(exc)
-    except (FileNotFoundError, KeyError) as exc:
-        print(f"stampc execute: policy refers to missing input: {exc}", file=sys.stderr)
-        return 2
+    except FileNotFoundError as exc:
+        raise FileNotFoundError(f"{exc} (an input named by {args.policy})") from None
+    origin = SceneOrigin(Span.point(args.policy), "in the scene stored in this policy")
+    world = open_world(policy["world"], policy["scene"], seed=args.seed, verbose=args.verbose,
+                       origin=origin)
     try:
         bindings = resolve_model(model, world.package)
         recorder = _Recorder(Path(args.render), world) if args.render else None
@@ -61,13 +69,11 @@ def run(args: argparse.Namespace) -> int:
                         on_step=recorder.on_step if recorder else None)
         if recorder:
             recorder.finish()
-    except StampcError as exc:
-        return fail_with(exc)
     finally:
         world.close()
     _print(report, args.format)
     on_refined_ok = report.count("success") == report.on_refined - report.count("dead_end")
-    return 0 if on_refined_ok else 1
+    return EXIT_DONE if on_refined_ok else EXIT_STOPPED_SHORT
 
 
 class _Recorder:

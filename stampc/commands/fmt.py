@@ -6,9 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from stampc.commands.common import read_source
-from stampc.diagnostics import SourceCache, render_human, summary_line
-from stampc.semantics.loader import display_name
+from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input
+from stampc.diagnostics import SourceCache, StampcError, render_human, summary_line
 from stampc.syntax.fmt import format_program
 from stampc.syntax.parser import parse_source
 
@@ -24,34 +23,36 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    status = 0
+    status = EXIT_DONE
     for name in args.files:
         path = Path(name)
-        text = read_source(name, "fmt")
-        if text is None:
-            return 2
-        shown = display_name(path)
+        try:
+            text, shown = read_input(name)
+        except StampcError as exc:  # binary or empty: say so, format the other files
+            _print_diagnostics(exc.diagnostics, SourceCache())
+            status = EXIT_INPUT
+            continue
         program, diags = parse_source(text, shown)
         if diags:
             cache = SourceCache()
             cache.add(shown, text)
-            for d in diags:
-                print(render_human(d, cache) + "\n", file=sys.stderr)
-            print(summary_line(diags), file=sys.stderr)
-            status = 1
+            _print_diagnostics(diags, cache)
+            status = EXIT_INPUT
             continue
         formatted = format_program(program, text)
         if args.check:
             if formatted != text:
                 print(f"would reformat {shown}")
-                status = 1
+                status = EXIT_INPUT
         elif args.write:
             if formatted != text:
-                try:
-                    path.write_text(formatted, encoding="utf-8")
-                except OSError as exc:
-                    print(f"stampc fmt: error: cannot write {name}: {exc.strerror}", file=sys.stderr)
-                    return 2
+                path.write_text(formatted, encoding="utf-8")  # OSError: exit 2 (cli.main)
         else:
             sys.stdout.write(formatted)
     return status
+
+
+def _print_diagnostics(diags, cache: SourceCache) -> None:
+    for d in diags:
+        print(render_human(d, cache) + "\n", file=sys.stderr)
+    print(summary_line(diags), file=sys.stderr)

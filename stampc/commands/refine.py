@@ -6,8 +6,10 @@ import argparse
 import sys
 from pathlib import Path
 
-from stampc.commands.common import add_input_arguments, fail_with, parse_scene_args
-from stampc.diagnostics import StampcError
+from stampc.commands.common import (EXIT_DONE, EXIT_INPUT, EXIT_STOPPED_SHORT, EXIT_USAGE,
+                                    add_input_arguments, heuristic_weight, positive_float,
+                                    positive_int, probability, parse_scene_args,
+                                    target_coverage)
 
 HELP = "refine an abstract policy with concrete motions (ATM-MDP), anytime"
 
@@ -16,20 +18,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_input_arguments(parser)
     parser.add_argument("--world", default="plane2d", choices=("plane2d", "pybullet"),
                         help="concrete world backend (default: plane2d)")
-    parser.add_argument("--time-limit", type=float, default=60.0, metavar="S",
-                        help="stop after S seconds (default 60)")
-    parser.add_argument("--target-coverage", type=float, default=1.0, metavar="P",
+    parser.add_argument("--time-limit", type=positive_float, default=60.0, metavar="S",
+                        help="stop after S seconds (default 60); stopping below the target "
+                             "coverage exits 3 (partial policy written)")
+    parser.add_argument("--target-coverage", type=target_coverage, default=1.0, metavar="P",
                         help="stop once this probability mass is refined (default 1.0)")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--horizon", type=int, default=None, help="initial horizon")
-    parser.add_argument("--update-probability", type=float, default=0.5,
+    parser.add_argument("--horizon", type=positive_int, default=None, help="initial horizon")
+    parser.add_argument("--update-probability", type=probability, default=0.5,
                         help="probability of UpdateAbstraction mode (default 0.5)")
-    parser.add_argument("--explore-probability", type=float, default=0.05,
+    parser.add_argument("--explore-probability", type=probability, default=0.05,
                         help="probability of the explore step (default 0.05)")
     parser.add_argument("--heuristic", default="hadd", choices=("hadd", "hff", "hmax", "zero"),
                         help="abstract solver heuristic (default hadd, with an h_FF fallback "
                              "when it finds no way to the goal)")
-    parser.add_argument("--weight", type=float, default=1.0,
+    parser.add_argument("--weight", type=heuristic_weight, default=1.0,
                         help="heuristic weight of the abstract solver (default 1)")
     parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
                         help="override a scene-builder argument (repeatable)")
@@ -44,31 +47,20 @@ def run(args: argparse.Namespace) -> int:
     from stampc.refine import RefineOptions
     from stampc.solvers import SolverOptions
 
-    for name, value in (("--target-coverage", args.target_coverage),
-                        ("--update-probability", args.update_probability),
-                        ("--explore-probability", args.explore_probability)):
-        if not 0.0 <= value <= 1.0:
-            print(f"stampc refine: {name} must be within [0, 1], got {value}", file=sys.stderr)
-            return 2
     try:
         overrides = parse_scene_args(args.scene_arg)
     except ValueError as exc:
         print(f"stampc refine: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_USAGE
     options = RefineOptions(
         seed=args.seed, time_limit=args.time_limit, target_coverage=args.target_coverage,
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed))
-    try:
-        with _progress(args.quiet) as on_event:
-            run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
-                              scene_overrides=overrides, verbose=args.verbose)
-    except StampcError as exc:
-        return fail_with(exc)
-    except FileNotFoundError as exc:
-        print(f"stampc refine: {exc}", file=sys.stderr)
-        return 2
+    # bad input (StampcError, exit 1) and unreadable files (OSError, 2): cli.main reports
+    with _progress(args.quiet) as on_event:
+        run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
+                                 scene_overrides=overrides, verbose=args.verbose)
     result = run_.result
     print(f"coverage {result.coverage:.4f}  goal probability {result.goal_probability:.4f}  "
           f"time {result.wall_time_s:.2f}s  PRG nodes {result.prg_nodes}  "
@@ -76,12 +68,17 @@ def run(args: argparse.Namespace) -> int:
     if result.stop_reason == "abstract goal unreachable":
         print("stampc refine: the goal is unreachable in the abstract model from the initial "
               "state (no policy reaches it with probability > 0)", file=sys.stderr)
-        return 1
+        return EXIT_INPUT
     if args.output:
         run_.write(Path(args.output))
         print(f"wrote {args.output}/policy.json, coverage.csv, coverage.png, policy.dot, "
               "policy.svg, summary.json")
-    return 0 if result.coverage >= args.target_coverage - 1e-9 else 1
+    if result.coverage >= args.target_coverage - 1e-9:
+        return EXIT_DONE
+    print(f"stampc refine: stopped short of the target coverage {args.target_coverage:g} "
+          f"({result.stop_reason})" + ("; the partial policy is written" if args.output else ""),
+          file=sys.stderr)
+    return EXIT_STOPPED_SHORT
 
 
 class _progress:

@@ -7,7 +7,10 @@ import json
 import sys
 import time
 from dataclasses import asdict
+from pathlib import Path
 
+from stampc.commands.common import (EXIT_DONE, EXIT_STOPPED_SHORT, count, heuristic_weight,
+                                    positive_float, positive_int)
 from stampc.diagnostics import StampcError
 
 HELP = "solve the abstract SSP (LAO*, LRTDP or VI) and write the policy"
@@ -22,23 +25,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--algorithm", choices=ALGORITHMS, default="lao")
     parser.add_argument("--heuristic", choices=HEURISTICS, default="hmax",
                         help="zero, hmax (admissible), hadd or hff (INADMISSIBLE, faster)")
-    parser.add_argument("--weight", type=float, default=1.0,
+    parser.add_argument("--weight", type=heuristic_weight, default=1.0,
                         help="heuristic weight (weighted LAO*; default 1)")
-    parser.add_argument("--epsilon", type=float, default=1e-4, help="Bellman residual to converge")
-    parser.add_argument("--dead-end-cost", type=float, default=500.0,
+    parser.add_argument("--epsilon", type=positive_float, default=1e-4,
+                        help="Bellman residual to converge")
+    parser.add_argument("--dead-end-cost", type=positive_float, default=500.0,
                         help="give-up cost D: dead ends cost D and every Q-value is capped at D")
     parser.add_argument("--unit-cost", action="store_true",
                         help="every action costs 1, ignoring declared costs/rewards")
-    parser.add_argument("--horizon", type=int, default=None,
+    parser.add_argument("--horizon", type=positive_int, default=None,
                         help="finite horizon (time-indexed values; default: the problem's own)")
-    parser.add_argument("--time-limit", type=float, default=None, help="seconds")
+    parser.add_argument("--time-limit", type=positive_float, default=None,
+                        help="seconds; stopping before convergence exits 3 (policy written)")
     parser.add_argument("--seed", type=int, default=0, help="seed for LRTDP and simulation")
     parser.add_argument("--format", choices=("text", "json"), default="text")
     parser.add_argument("-o", "--output", metavar="FILE", help="write the policy as JSON")
     parser.add_argument("--dot", metavar="FILE", help="write the policy graph as Graphviz DOT")
-    parser.add_argument("--simulate", type=int, default=0, metavar="N",
+    parser.add_argument("--simulate", type=count, default=0, metavar="N",
                         help="simulate N runs of the policy (seeded by --seed)")
-    parser.add_argument("--max-steps", type=int, default=1000,
+    parser.add_argument("--max-steps", type=positive_int, default=1000,
                         help="step cap per simulated run")
 
 
@@ -73,11 +78,9 @@ def _print_text(report: dict) -> None:
 def run(args: argparse.Namespace) -> int:
     from stampc.solvers import SolverOptions, check_options, simulate, solve
     from stampc.solvers.export import write_policy_dot, write_policy_json
+    from stampc.inputs import check_input_files, existing_file
     from stampc.solvers.loading import load_ground_model
 
-    if args.simulate < 0:
-        print("error: --simulate must be >= 0", file=sys.stderr)
-        return 2
     options = SolverOptions(algorithm=args.algorithm, heuristic=args.heuristic,
                             epsilon=args.epsilon, dead_end_cost=args.dead_end_cost,
                             unit_cost=args.unit_cost, horizon=args.horizon,
@@ -89,6 +92,7 @@ def run(args: argparse.Namespace) -> int:
         for d in exc.diagnostics:
             print(f"error: {d.message}" + (f" ({d.hint})" if d.hint else ""), file=sys.stderr)
         return 2
+    check_input_files([existing_file(Path(f)) for f in args.files])  # I/O: exit 2, I00x: 1
     try:
         model = load_ground_model(args.files)
     except SystemExit as exc:
@@ -112,4 +116,4 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(report))
     else:
         _print_text(report)
-    return 0
+    return EXIT_DONE if solution.converged else EXIT_STOPPED_SHORT

@@ -10,7 +10,7 @@ by the abstract state.
 from __future__ import annotations
 
 import random
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Iterator, Mapping
 
 from stampc.diagnostics import Span, StampcError, error
@@ -177,6 +177,8 @@ class Concretizer:
         ctx = self._context(cache, values, uid, 0, 1000 + outcome)
         try:
             fn(ctx, concrete)
+        except StampcError as exc:  # the world's own diagnostic (e.g. S274): code and hint kept
+            raise self._world_error(exc, action_name=action.name) from None
         except Exception as exc:
             raise self._user_error("R205", f"executor of {action.name!r} raised "
                                    f"{type(exc).__name__}: {exc}", action_name=action.name) from None
@@ -204,14 +206,27 @@ class Concretizer:
 
     def _user_error(self, code: str, message: str, predicate: str | None = None, *,
                     gen_name: str | None = None, action_name: str | None = None) -> StampcError:
-        domain = self.model.lifted.domain
-        span = None
-        if gen_name:
-            span = next((g.binding.span or g.span for g in domain.generators if g.name == gen_name), None)
-        elif predicate:
-            span = next((e.binding.span or e.span for e in domain.evaluators if e.predicate == predicate), None)
-        elif action_name:
-            span = next((a.executes.span if a.executes else a.span
-                         for a in domain.actions if a.name == action_name), None)
+        span = self._binding_span(predicate, gen_name, action_name)
         return StampcError([error(code, message, span or Span.point("<model>"),
                                   hint="this is raised by bound Python code; fix the function")])
+
+    def _world_error(self, exc: StampcError, *, action_name: str) -> StampcError:
+        """A world function's diagnostics, moved from its ``<...>`` placeholder location to
+        the binding that called it (their own codes and hints say what to change)."""
+        span = self._binding_span(None, None, action_name)
+        if span is None:
+            return exc
+        return StampcError([replace(d, span=span) if d.span.file.startswith("<") else d
+                            for d in exc.diagnostics])
+
+    def _binding_span(self, predicate: str | None, gen_name: str | None,
+                      action_name: str | None) -> Span | None:
+        domain = self.model.lifted.domain
+        if gen_name:
+            return next((g.binding.span or g.span for g in domain.generators if g.name == gen_name), None)
+        if predicate:
+            return next((e.binding.span or e.span for e in domain.evaluators if e.predicate == predicate), None)
+        if action_name:
+            return next((a.executes.span if a.executes else a.span
+                         for a in domain.actions if a.name == action_name), None)
+        return None

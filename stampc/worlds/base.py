@@ -126,3 +126,12 @@ def scene_argument(scene: Mapping[str, Any] | str | Path, seed: Any, *, read_cod
         raise StampcError([error(seed_code, f"{world}: seed must be an integer, got {seed!r}",
                                  Span.point(f"<{world} world>"))])
     return scene, source
+
+
+def missing_parameter_hint(action: ConcreteAction, name: str) -> str:
+    """Executors read action parameters by name: name both sides of the mismatch."""
+    params = ", ".join(f"`{p}`" for p in action.args) or "none"
+    return (f"the executor reads the action parameter `{name}`, but action "
+            f"{action.name!r} declares {params}: in the stamp file, rename the parameter "
+            f"that holds this value to `{name}` (executor parameter names are listed in "
+            "the world's docs)")

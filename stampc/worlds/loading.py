@@ -11,10 +11,13 @@ from __future__ import annotations
 
 import importlib
 import json
+import re
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Mapping
 
-from stampc.diagnostics import Span, StampcError, error
+from stampc.diagnostics import Diagnostic, Span, StampcError, error
+from stampc.inputs import display_name, read_input_text
 from stampc.ir.lifted import Problem, SceneRef
 from stampc.worlds.bindings import world_package
 from stampc.worlds.modules import import_bound_module
@@ -51,13 +54,16 @@ def load_scene(problem: Problem, base_dir: Path, overrides: Mapping[str, Any] | 
         _fail("S100", f"problem {problem.name!r} has no scene", None,
               'add `scene "scene.json"` or `scene builder "pkg.mod:build"(...)`')
     if ref.kind == "file":
-        path = (base_dir / ref.target).resolve()
+        path = base_dir / ref.target
         try:
-            return json.loads(path.read_text(encoding="utf-8"))
+            text = read_input_text(path, display_name(path))  # binary: I001 in the scene file
         except OSError as exc:
-            _fail("S101", f"cannot read scene file {str(path)!r}: {exc.strerror}", ref)
+            _fail("S101", f"cannot read scene file: {exc}", ref)
+        try:
+            return json.loads(text)
         except json.JSONDecodeError as exc:
-            _fail("S101", f"scene file {str(path)!r} is not valid JSON: {exc}", ref)
+            raise StampcError([error("S101", f"scene file is not valid JSON: {exc.msg}",
+                                     Span.point(display_name(path), exc.lineno, exc.colno))])
     fn = _import_builder(ref, base_dir)
     kwargs = dict(ref.args)
     kwargs.update(overrides or {})
@@ -70,13 +76,67 @@ def load_scene(problem: Problem, base_dir: Path, overrides: Mapping[str, Any] | 
     return dict(scene)
 
 
-def open_world(name: str, scene: Mapping[str, Any], *, seed: int, verbose: bool = False):
-    """Instantiate world backend ``name`` on ``scene``."""
+@dataclass(frozen=True)
+class SceneOrigin:
+    """Where a scene dict came from, so that the world's complaints about it point there."""
+
+    span: Span               # the scene file, or the problem's `scene builder` line
+    what: str                # e.g. "in the scene built by examples.x.scene:build"
+    text: str | None = None  # a scene file's JSON, to find the line of a section
+
+
+def scene_origin(problem: Problem, base_dir: Path) -> SceneOrigin | None:
+    """The origin of ``problem``'s scene (read by :func:`load_scene`)."""
+    ref = problem.scene
+    if ref is None:
+        return None
+    if ref.kind == "file":
+        path = base_dir / ref.target
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            text = None
+        return SceneOrigin(Span.point(display_name(path)), "in this scene file", text)
+    span = ref.span or Span.point("<problem>")
+    return SceneOrigin(span, f"in the scene built by {ref.target}")
+
+
+def open_world(name: str, scene: Mapping[str, Any], *, seed: int, verbose: bool = False,
+               origin: SceneOrigin | None = None):
+    """Instantiate world backend ``name`` on ``scene``; diagnostics about the scene point
+    at ``origin`` (its file and the line of the offending section where it can tell)."""
     package = importlib.import_module(world_package(name))
     try:
         return package.open_world(scene, seed=seed, verbose=verbose)
-    except StampcError:
-        raise
+    except StampcError as exc:
+        if origin is None:
+            raise
+        raise StampcError([_relocated(d, origin) for d in exc.diagnostics]) from None
     except (KeyError, ValueError, TypeError) as exc:
-        raise StampcError([error("S107", f"invalid scene for world {name!r}: "
-                                 f"{type(exc).__name__}: {exc}", Span.point("<scene>"))]) from None
+        d = error("S107", f"invalid scene for world {name!r}: {type(exc).__name__}: {exc}",
+                  Span.point("<scene>"))
+        raise StampcError([_relocated(d, origin) if origin else d]) from None
+
+
+_PLANE2D_KEY = re.compile(r"^scene ([A-Za-z_]\w*)")
+
+
+def _relocated(d: Diagnostic, origin: SceneOrigin) -> Diagnostic:
+    """``d`` moved from a ``<scene ...>`` placeholder to the scene's real origin."""
+    if not d.span.file.startswith("<scene"):
+        return d
+    section = d.span.file[len("<scene"):-1].strip()  # pybullet: "<scene objects>", line = entry
+    message = f"scene {section} entry {d.span.line}: {d.message}" if section else d.message
+    key = section or next(iter(_PLANE2D_KEY.findall(d.message)), "")
+    return replace(d, span=_key_span(origin, key), message=f"{message} ({origin.what})")
+
+
+def _key_span(origin: SceneOrigin, key: str) -> Span:
+    """The line of ``"key":`` in a scene file; the origin itself otherwise."""
+    if origin.text is None or not key:
+        return origin.span
+    for lineno, line in enumerate(origin.text.splitlines(), 1):
+        col = line.find(f'"{key}"')
+        if col >= 0:
+            return Span(origin.span.file, lineno, col + 1, lineno, col + len(key) + 3)
+    return origin.span

@@ -6,7 +6,7 @@ import math
 from typing import Any, Callable, TypeVar
 
 from stampc.diagnostics import Span, StampcError, error
-from stampc.worlds.base import ConcreteAction, Context
+from stampc.worlds.base import ConcreteAction, Context, missing_parameter_hint
 from stampc.worlds.plane2d.world import Plane2DWorld
 
 T = TypeVar("T")
@@ -44,9 +44,9 @@ def arg(action: ConcreteAction, name: str, convert: Callable[[Any], T]) -> T:
         raise StampcError([error("S274", f"plane2d executor of {action.name!r}: missing "
                                  f"argument {name!r} (has {', '.join(action.args) or 'none'})",
                                  Span.point("<plane2d executor>"),
-                                 hint="name the action parameters as documented in "
-                                      "docs/worlds-plane2d.md")])
+                                 hint=missing_parameter_hint(action, name))])
     return convert(action.args[name])
+
 
 
 def name_arg(value: Any) -> str:

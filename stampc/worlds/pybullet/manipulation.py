@@ -11,7 +11,7 @@ import math
 from typing import Iterator
 
 from stampc.diagnostics import Span, StampcError, error
-from stampc.worlds.base import ConcreteAction, Context
+from stampc.worlds.base import ConcreteAction, Context, missing_parameter_hint
 from stampc.worlds.pybullet.kinematics import (IkSettings, grasp_candidates, solve_ik,
                                                top_grasp)
 from stampc.worlds.pybullet.planning import (PlanSettings, PlanStats, counts, plan_trajectory,
@@ -228,7 +228,7 @@ def _adds(action: ConcreteAction, predicate: str, obj: str) -> bool:
 def _arg(action: ConcreteAction, name: str) -> object:
     if name not in action.args:
         raise StampcError([error("PB013", f"action '{action.name}' lacks argument '{name}'",
-                                 Span.point("<world>"))])
+                                 Span.point("<world>"), hint=missing_parameter_hint(action, name))])
     return action.args[name]
 
 
