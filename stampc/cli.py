@@ -4,8 +4,8 @@ Each subcommand lives in ``stampc/commands/<name>.py`` and exposes
 ``HELP: str``, ``add_arguments(parser)`` and ``run(args) -> int``. Exit codes, the same
 for every command: 0 done, 1 input errors, 2 usage or I/O errors, 3 ran but stopped short
 (partial result written). A command reports bad input by raising :class:`StampcError`
-(exit 1) and unreadable or unwritable files by raising ``OSError`` (exit 2); ``main``
-prints both, so no command can end in a traceback for either.
+(exit 1) and unreadable or unwritable files by raising ``OSError`` (exit 2); its ``run``
+is wrapped in ``commands.common.reports_errors``, which prints both.
 """
 
 from __future__ import annotations
@@ -16,9 +16,7 @@ import importlib.util
 import sys
 
 from stampc import __version__
-from stampc.commands.common import (EXIT_CODES_HELP, EXIT_USAGE, fail_with,
-                                    io_error_message)
-from stampc.diagnostics import StampcError
+from stampc.commands.common import EXIT_CODES_HELP, EXIT_USAGE
 
 COMMANDS = ("check", "fmt", "compile", "solve", "refine", "execute")
 
@@ -45,7 +43,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # usage errors (exit 2), --help and --version (0)
+        return int(exc.code or 0)
     if not getattr(args, "_run", None):
         parser.print_help()
         return EXIT_USAGE
@@ -56,11 +57,6 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
-    except StampcError as exc:
-        return fail_with(exc)
-    except OSError as exc:
-        print(io_error_message(args.command, exc), file=sys.stderr)
-        return EXIT_USAGE
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -27,10 +27,10 @@ CODES = {"I001": "input is not UTF-8 text", "I002": "input file is empty"}
 def existing_file(path: Path) -> Path:
     """``path`` itself; ``OSError`` naming the problem when it is not a readable file."""
     if path.is_dir():
-        raise IsADirectoryError(f"{path} is a directory, not a file")
+        raise IsADirectoryError(f"cannot read {path}: it is a directory, not a file")
     if not path.is_file():
-        raise FileNotFoundError(f"no such file: {path}" if not path.exists()
-                                else f"{path} is not a regular file")
+        raise FileNotFoundError(f"cannot read {path}: " + ("no such file" if not path.exists()
+                                                           else "not a regular file"))
     return path
 
 

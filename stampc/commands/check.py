@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input
+from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input, reports_errors
 from stampc.diagnostics import Severity, SourceCache, StampcError, render_human, render_json, summary_line
 from stampc.semantics.api import analyze, unique_sorted
 from stampc.semantics.loader import source_from_text
@@ -22,6 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--strict", action="store_true", help="treat warnings as failures")
 
 
+@reports_errors("check")
 def run(args: argparse.Namespace) -> int:
     sources, unreadable = [], []
     for name in args.files:

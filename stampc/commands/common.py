@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import ast
+import functools
 import math
 import sys
 from pathlib import Path
@@ -22,6 +23,25 @@ def add_input_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("files", nargs="+", metavar="FILE",
                         help="DOMAIN [PROBLEM] (.stamp), or one .pddl file (domain.pddl beside it "
                              "for problem-only files), or domain.pddl problem.pddl")
+
+
+def reports_errors(command: str):
+    """Decorate a command's ``run``: ``StampcError`` prints its located diagnostics (exit
+    1), ``OSError`` one line naming the file (exit 2) — never a traceback for either."""
+    def decorate(run: Callable[[argparse.Namespace], int]):
+        @functools.wraps(run)
+        def guarded(args: argparse.Namespace) -> int:
+            try:
+                return run(args)
+            except StampcError as exc:
+                return fail_with(exc)
+            except BrokenPipeError:
+                raise
+            except OSError as exc:
+                print(io_error_message(command, exc), file=sys.stderr)
+                return EXIT_USAGE
+        return guarded
+    return decorate
 
 
 def io_error_message(command: str, exc: OSError) -> str:

@@ -11,7 +11,7 @@ import sys
 import time
 from pathlib import Path
 
-from stampc.commands.common import add_input_arguments, fail_with
+from stampc.commands.common import add_input_arguments, fail_with, reports_errors
 from stampc.diagnostics import StampcError
 
 HELP = "compile .stamp (or import .pddl) to the versioned JSON IR or to PPDDL"
@@ -26,6 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write files here (default: print to standard output)")
 
 
+@reports_errors("compile")
 def run(args: argparse.Namespace) -> int:
     from stampc import api
     from stampc.ir.json_io import grounded_to_json, lifted_to_json

@@ -6,7 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
-from stampc.commands.common import EXIT_DONE, EXIT_STOPPED_SHORT, positive_int
+from stampc.commands.common import EXIT_DONE, EXIT_STOPPED_SHORT, positive_int, reports_errors
 from stampc.diagnostics import Span, StampcError, error
 
 HELP = "replay a refined policy (policy.json) in its concrete world and report success"
@@ -46,6 +46,7 @@ def _not_a_policy(message: str, span: Span) -> StampcError:
                               hint="pass the policy.json written by `stampc refine -o DIR`")])
 
 
+@reports_errors("execute")
 def run(args: argparse.Namespace) -> int:
     from stampc import api
     from stampc.refine.replay import replay

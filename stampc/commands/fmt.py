@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input
+from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input, reports_errors
 from stampc.diagnostics import SourceCache, StampcError, render_human, summary_line
 from stampc.syntax.fmt import format_program
 from stampc.syntax.parser import parse_source
@@ -22,6 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       help="exit 1 (and list the files) if any file is not formatted")
 
 
+@reports_errors("fmt")
 def run(args: argparse.Namespace) -> int:
     status = EXIT_DONE
     for name in args.files:

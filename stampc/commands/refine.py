@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 from stampc.commands.common import (EXIT_DONE, EXIT_INPUT, EXIT_STOPPED_SHORT, EXIT_USAGE,
-                                    add_input_arguments, heuristic_weight, positive_float,
-                                    positive_int, probability, parse_scene_args,
+                                    add_input_arguments, heuristic_weight, parse_scene_args,
+                                    positive_float, positive_int, probability, reports_errors,
                                     target_coverage)
 
 HELP = "refine an abstract policy with concrete motions (ATM-MDP), anytime"
@@ -42,6 +42,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--verbose", action="store_true", help="let simulators print")
 
 
+@reports_errors("refine")
 def run(args: argparse.Namespace) -> int:
     from stampc import api
     from stampc.refine import RefineOptions

@@ -10,7 +10,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from stampc.commands.common import (EXIT_DONE, EXIT_STOPPED_SHORT, count, heuristic_weight,
-                                    positive_float, positive_int)
+                                    positive_float, positive_int, reports_errors)
 from stampc.diagnostics import StampcError
 
 HELP = "solve the abstract SSP (LAO*, LRTDP or VI) and write the policy"
@@ -75,6 +75,7 @@ def _print_text(report: dict) -> None:
               f"{sim['goal_rate']:.4f} [{glo:.4f}, {ghi:.4f}]")
 
 
+@reports_errors("solve")
 def run(args: argparse.Namespace) -> int:
     from stampc.solvers import SolverOptions, check_options, simulate, solve
     from stampc.solvers.export import write_policy_dot, write_policy_json
