@@ -122,6 +122,8 @@ def _current_or_fresh(prefix: str, spec: importlib.machinery.ModuleSpec) -> Modu
     current = sys.modules.get(prefix)
     if current is not None and _file_loaded(current) in (origin, None):
         return current  # ours and unchanged, or imported from sys.path: keep it
+    for stale in [n for n in sys.modules if n.startswith(prefix + ".")]:
+        del sys.modules[stale]  # submodules of the replaced package: its old incarnation's
     spec.loader_state = origin
     module = importlib.util.module_from_spec(spec)
     sys.modules[prefix] = module

@@ -1,0 +1,102 @@
+"""Exit codes, the same for every command: 0 done, 1 input errors, 2 usage or I/O
+errors, 3 ran but stopped short with the partial result written; bad limits are usage
+errors. In-process through ``stampc.cli.main`` (argument checks need no subprocess)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+
+from stampc.cli import main
+from tests.cli.conftest import EXAMPLES
+
+SHELF = EXAMPLES / "shelf2d"
+CLUTTERED = EXAMPLES / "cluttered_table"
+DOMAIN, PROBLEM2D = str(CLUTTERED / "domain.stamp"), str(CLUTTERED / "problem2d.stamp")
+
+FLOAT_LIMITS = [("solve", "--time-limit"), ("solve", "--epsilon"), ("solve", "--dead-end-cost"),
+                ("refine", "--time-limit")]
+INT_LIMITS = [("solve", "--horizon"), ("solve", "--max-steps"), ("refine", "--horizon"),
+              ("execute", "--runs"), ("execute", "--max-steps")]
+BAD_VALUES = ["0", "-5", "nan", "inf"]
+
+
+def _inputs(command: str, tmp_path) -> list[str]:
+    return [str(tmp_path / "policy.json")] if command == "execute" else [DOMAIN, PROBLEM2D]
+
+
+@pytest.mark.parametrize("value", BAD_VALUES)
+@pytest.mark.parametrize("command,option", FLOAT_LIMITS + INT_LIMITS)
+def test_non_positive_or_non_finite_limits_are_usage_errors(command, option, value,
+                                                            tmp_path, capsys):
+    assert main([command, *_inputs(command, tmp_path), option, value]) == 2
+    err = capsys.readouterr().err
+    assert f"argument {option}:" in err and repr(value) in err
+
+
+@pytest.mark.parametrize("command,option,value", [
+    ("solve", "--weight", "0.5"), ("solve", "--weight", "inf"), ("solve", "--simulate", "-1"),
+    ("refine", "--weight", "nan"), ("refine", "--target-coverage", "0"),
+    ("refine", "--target-coverage", "1.5"), ("refine", "--update-probability", "nan"),
+    ("refine", "--explore-probability", "-0.1"), ("solve", "--time-limit", "soon"),
+])
+def test_other_option_values_out_of_range_are_usage_errors(command, option, value,
+                                                           tmp_path, capsys):
+    assert main([command, *_inputs(command, tmp_path), option, value]) == 2
+    assert f"argument {option}:" in capsys.readouterr().err
+
+
+def test_help_states_the_exit_codes(capsys):
+    for command in ("check", "fmt", "compile", "solve", "refine", "execute"):
+        assert main([command, "--help"]) == 0
+        text = " ".join(capsys.readouterr().out.split())
+        assert "exit codes: 0 done; 1 input errors" in text and "3 ran but stopped short" in text
+
+
+def test_solve_stopped_by_its_time_limit_exits_3_with_the_policy_written(tmp_path, capsys):
+    out = tmp_path / "policy.json"
+    assert main(["solve", DOMAIN, PROBLEM2D, "--time-limit", "1e-6", "-o", str(out)]) == 3
+    assert "time limit reached before convergence" in capsys.readouterr().out
+    assert json.loads(out.read_text(encoding="utf-8"))
+
+
+def test_solve_that_converges_exits_0(capsys):
+    assert main(["solve", str(SHELF / "domain.stamp"), str(SHELF / "problem.stamp")]) == 0
+
+
+def test_refine_below_target_coverage_exits_3_with_the_partial_policy(tmp_path, capsys):
+    out = tmp_path / "out"
+    code = main(["refine", DOMAIN, PROBLEM2D, "--time-limit", "0.001", "--quiet",
+                 "-o", str(out)])
+    assert code == 3
+    assert "stopped short of the target coverage" in capsys.readouterr().err
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    assert summary["coverage"] < 1.0
+    assert (out / "policy.json").is_file()
+
+
+def test_execute_exits_3_when_a_refined_branch_fails(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["refine", str(SHELF / "domain.stamp"), str(SHELF / "problem.stamp"),
+                 "--quiet", "-o", str(out)]) == 0
+    assert main(["execute", str(out / "policy.json"), "--runs", "2"]) == 0
+    policy = json.loads((out / "policy.json").read_text(encoding="utf-8"))
+    root = next(n for n in policy["nodes"] if n["id"] == policy["root"])
+    root["args"]["q"] = "no_such_config"  # the executor now fails: not a configuration
+    (out / "broken.json").write_text(json.dumps(policy), encoding="utf-8")
+    capsys.readouterr()
+    assert main(["execute", str(out / "broken.json"), "--runs", "2"]) == 3
+    assert "failure 2" in capsys.readouterr().out
+
+
+def test_unreachable_goal_is_an_input_error(tmp_path, capsys):
+    shutil.copy(SHELF / "domain.stamp", tmp_path / "domain.stamp")
+    problem = (SHELF / "problem.stamp").read_text(encoding="utf-8")
+    (tmp_path / "problem.stamp").write_text(
+        problem.replace("goal holding(can0)", "goal holding(can0)\n     is_tray(table)"),
+        encoding="utf-8")
+    code = main(["refine", str(tmp_path / "domain.stamp"), str(tmp_path / "problem.stamp"),
+                 "--quiet"])
+    assert code == 1
