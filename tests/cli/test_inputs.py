@@ -101,3 +101,10 @@ def test_a_byte_order_mark_is_dropped(tmp_path):
     path = tmp_path / "bom.stamp"
     path.write_bytes(b"\xef\xbb\xbfdomain d\n")
     assert read_input_text(path) == "domain d\n"
+
+
+def test_check_accepts_a_byte_order_mark(tmp_path, capsys):
+    path = tmp_path / "bom.stamp"
+    path.write_bytes(b"\xef\xbb\xbf" + (EXAMPLES / "shelf2d" / "domain.stamp").read_bytes())
+    assert main(["check", str(path)]) == 0
+    assert "0 errors" in capsys.readouterr().out
