@@ -15,7 +15,7 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.engine import Engine
 from stampc.refine.export import policy_json, write_outputs
 from stampc.refine.graph import PolicyGraph
-from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
+from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult, check_refine_options
 from stampc.worlds.bindings import ResolvedBindings
 
 __all__ = ["Engine", "ProgressEvent", "RefineOptions", "RefineResult", "RefinedPolicy",
@@ -47,6 +47,7 @@ def run_refinement(model: GroundModel, world: Any, bindings: ResolvedBindings,
                    options: RefineOptions = RefineOptions(), *,
                    on_event: Callable[[ProgressEvent], None] | None = None,
                    meta: Mapping[str, Any] | None = None) -> RefinedPolicy:
+    check_refine_options(options)
     engine = Engine(model, world, bindings, options)
     try:
         for event in engine.run():

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
-from stampc.diagnostics import Diagnostic
+from stampc.diagnostics import Diagnostic, Span, StampcError, error
 from stampc.solvers import SolverOptions
 
 
@@ -42,6 +43,29 @@ class RefineOptions:
     #: dead-end cost; the relaxed-plan heuristic h_FF does not.
     fallback_solver: SolverOptions | None = field(
         default_factory=lambda: SolverOptions(heuristic="hff"))
+
+
+def check_refine_options(options: RefineOptions) -> None:
+    """Raise ``StampcError`` (R001–R003) for limits no run can honour: the API refuses
+    what the CLI refuses (``time_limit`` 0, negative or nan; ``inf`` means none)."""
+    span = Span.point("<options>")
+    problems = []
+    limit = options.time_limit
+    if limit is not None and not (limit > 0 and not math.isnan(limit)):
+        problems.append(error("R001", f"time limit must be positive, got {limit}", span,
+                              hint="use None for no limit"))
+    if not 0.0 < options.target_coverage <= 1.0:
+        problems.append(error("R002", "target coverage must be within (0, 1], got "
+                              f"{options.target_coverage}", span))
+    for name in ("update_probability", "explore_probability"):
+        value = getattr(options, name)
+        if not 0.0 <= value <= 1.0:
+            problems.append(error("R003", f"{name} must be within [0, 1], got {value}", span))
+    if options.horizon is not None and options.horizon < 1:
+        problems.append(error("R003", f"horizon must be at least 1, got {options.horizon}",
+                              span))
+    if problems:
+        raise StampcError(problems)
 
 
 @dataclass(frozen=True)

@@ -100,3 +100,17 @@ def test_unreachable_goal_is_an_input_error(tmp_path, capsys):
     code = main(["refine", str(tmp_path / "domain.stamp"), str(tmp_path / "problem.stamp"),
                  "--quiet"])
     assert code == 1
+
+
+@pytest.mark.parametrize("options", [{"time_limit": 0}, {"time_limit": -5},
+                                     {"time_limit": float("nan")}, {"target_coverage": 0},
+                                     {"explore_probability": 2}, {"horizon": 0}])
+def test_the_api_refuses_the_limits_the_cli_refuses(options):
+    import stampc
+    from stampc.diagnostics import StampcError
+    from stampc.refine import RefineOptions
+
+    with pytest.raises(StampcError) as info:
+        stampc.refine_policy([SHELF / "domain.stamp", SHELF / "problem.stamp"],
+                             options=RefineOptions(**options))
+    assert info.value.diagnostics[0].code in ("R001", "R002", "R003")
