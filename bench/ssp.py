@@ -94,7 +94,7 @@ def run_one(instance: str, algorithm: str, heuristic: str) -> dict:
     except subprocess.TimeoutExpired:
         return {"status": "timeout", "wall_s": time.perf_counter() - start}
     wall = time.perf_counter() - start
-    if proc.returncode != 0:
+    if proc.returncode not in (0, 3):  # 3: stopped by the time limit, report still printed
         last = (proc.stderr.strip().splitlines() or ["?"])[-1]
         return {"status": f"error: {last[:60]}", "wall_s": wall}
     report = json.loads(proc.stdout.strip().splitlines()[-1])
