@@ -20,8 +20,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
-EXAMPLES = REPO / "examples"
+from .paths import EXAMPLES, REPO
 
 
 def console_script() -> Path:

@@ -10,7 +10,8 @@ import shutil
 import pytest
 
 from stampc.cli import main
-from tests.cli.conftest import EXAMPLES
+
+from .paths import EXAMPLES
 
 SHELF = EXAMPLES / "shelf2d"
 CLUTTERED = EXAMPLES / "cluttered_table"

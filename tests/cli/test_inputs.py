@@ -12,7 +12,8 @@ import stampc
 from stampc.cli import main
 from stampc.diagnostics import StampcError
 from stampc.inputs import read_input_text
-from tests.cli.conftest import EXAMPLES
+
+from .paths import EXAMPLES
 
 FILE_COMMANDS = ["check", "fmt", "compile", "solve", "refine"]
 BINARY = b"domain x\n\x00\x00\x01\x1b[2J\xff\xfe binary\n"

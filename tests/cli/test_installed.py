@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import EXAMPLES, REPO
+from .paths import EXAMPLES, REPO
 
 TINY_PPDDL = """\
 (define (domain coin) (:requirements :probabilistic-effects)

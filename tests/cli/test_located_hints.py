@@ -10,7 +10,8 @@ import pytest
 import stampc
 from stampc.diagnostics import StampcError
 from stampc.worlds.plane2d.scenes import cluttered
-from tests.cli.conftest import EXAMPLES
+
+from .paths import EXAMPLES
 
 SHELF_DOMAIN = (EXAMPLES / "shelf2d" / "domain.stamp").read_text(encoding="utf-8")
 SHELF_PROBLEM = (EXAMPLES / "shelf2d" / "problem.stamp").read_text(encoding="utf-8")

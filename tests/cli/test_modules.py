@@ -13,7 +13,8 @@ import pytest
 import stampc
 from stampc.diagnostics import StampcError
 from stampc.worlds.modules import import_bound_module
-from tests.cli.conftest import EXAMPLES, REPO
+
+from .paths import EXAMPLES, REPO
 
 SCENE = '''\
 from __future__ import annotations
