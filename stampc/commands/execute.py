@@ -35,6 +35,9 @@ def _load_policy(path: Path) -> dict:
     except json.JSONDecodeError as exc:
         raise _not_a_policy(f"not valid JSON: {exc.msg}", Span.point(shown, exc.lineno, exc.colno))
     missing = [k for k in ("files", "world", "scene") if not isinstance(data, dict) or k not in data]
+    if not missing and not (isinstance(data["files"], list)
+                            and all(isinstance(f, str) for f in data["files"])):
+        missing = ["files"]
     if not isinstance(data, dict) or data.get("format") != "stampc-policy" or missing:
         raise _not_a_policy("not a stampc policy file" + (f" (no {', '.join(missing)})"
                                                           if missing else ""), Span.point(shown))
@@ -53,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     from stampc.worlds.bindings import resolve_model
     from stampc.worlds.loading import SceneOrigin, open_world
 
-    # bad input (StampcError, exit 1) and unreadable files (OSError, 2): cli.main reports
+    # bad input (StampcError, exit 1) and unreadable files (OSError, 2): reports_errors
     policy = _load_policy(Path(args.policy))
     try:
         model = api.load_model(policy["files"])

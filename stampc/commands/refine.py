@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed))
-    # bad input (StampcError, exit 1) and unreadable files (OSError, 2): cli.main reports
+    # bad input (StampcError, exit 1) and unreadable files (OSError, 2): reports_errors
     with _progress(args.quiet) as on_event:
         run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
                                  scene_overrides=overrides, verbose=args.verbose)
