@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
                 status = EXIT_INPUT
         elif args.write:
             if formatted != text:
-                path.write_text(formatted, encoding="utf-8")  # OSError: exit 2 (cli.main)
+                path.write_text(formatted, encoding="utf-8")  # OSError: exit 2 (reports_errors)
         else:
             sys.stdout.write(formatted)
     return status
