@@ -8,8 +8,6 @@ from pathlib import Path
 
 from stampc.commands.common import read_source
 from stampc.diagnostics import Severity, SourceCache, StampcError, render_human, render_json, summary_line
-from stampc.semantics.api import analyze, unique_sorted
-from stampc.semantics.loader import display_name, source_from_text
 
 HELP = "check stamp domains and problems for errors and warnings"
 
@@ -23,6 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from stampc.semantics.api import analyze, unique_sorted
+    from stampc.semantics.loader import display_name, source_from_text
+
     sources = []
     for name in args.files:
         path = Path(name)

@@ -8,9 +8,6 @@ from pathlib import Path
 
 from stampc.commands.common import read_source
 from stampc.diagnostics import SourceCache, render_human, summary_line
-from stampc.semantics.loader import display_name
-from stampc.syntax.fmt import format_program
-from stampc.syntax.parser import parse_source
 
 HELP = "format stamp files canonically (prints to stdout unless --write or --check)"
 
@@ -24,6 +21,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from stampc.semantics.loader import display_name
+    from stampc.syntax.fmt import format_program
+    from stampc.syntax.parser import parse_source
+
     status = 0
     for name in args.files:
         path = Path(name)

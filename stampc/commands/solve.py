@@ -8,6 +8,7 @@ import sys
 import time
 from dataclasses import asdict
 
+from stampc.commands.common import fail_with
 from stampc.diagnostics import StampcError
 
 HELP = "solve the abstract SSP (LAO*, LRTDP or VI) and write the policy"
@@ -71,9 +72,9 @@ def _print_text(report: dict) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from stampc import api
     from stampc.solvers import SolverOptions, check_options, simulate, solve
     from stampc.solvers.export import write_policy_dot, write_policy_json
-    from stampc.solvers.loading import load_ground_model
 
     if args.simulate < 0:
         print("error: --simulate must be >= 0", file=sys.stderr)
@@ -89,10 +90,17 @@ def run(args: argparse.Namespace) -> int:
         for d in exc.diagnostics:
             print(f"error: {d.message}" + (f" ({d.hint})" if d.hint else ""), file=sys.stderr)
         return 2
+    if not 1 <= len(args.files) <= 2:
+        print(f"error: expected DOMAIN [PROBLEM] or one file, got {len(args.files)} files",
+              file=sys.stderr)
+        return 2
     try:
-        model = load_ground_model(args.files)
-    except SystemExit as exc:
-        return int(exc.code or 0)
+        model = api.ground(api.load_model(args.files))
+    except StampcError as exc:
+        return fail_with(exc)
+    except OSError as exc:  # missing or unreadable input
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     parse_ground_s = time.perf_counter() - start
     solution = solve(model, options)
     total_s = time.perf_counter() - start

@@ -95,7 +95,7 @@ def test_interrupt_returns_best_policy_so_far():
 
     model, world, bindings = open_for(SHELF)
     try:
-        refined = run_refinement(model.ground(), world, bindings, RefineOptions(seed=1),
+        refined = run_refinement(stampc.ground(model), world, bindings, RefineOptions(seed=1),
                                  on_event=interrupt_after_three)
     finally:
         world.close()
@@ -134,7 +134,7 @@ def test_refined_nodes_survive_every_update():
     Checked over several seeds in UpdateAbstraction mode (at least one updates below
     an already refined prefix)."""
     model, world, bindings = open_for(SHELF)
-    ground = model.ground()
+    ground = stampc.ground(model)
     checked = 0
     try:
         for seed in range(10):
