@@ -3,7 +3,8 @@
 Compiling a Lark grammar into LALR(1) tables costs 0.1–0.4 s per process, more than
 the rest of a small ``stampc check`` or ``stampc solve``. The compiled form is stored
 in the user's cache directory and reused while the grammar text, the Lark version and
-the stored format are unchanged (all three are hashed into the file name).
+the stored format are unchanged: all three (the entry's *key*) are stored in the entry
+and compared exactly on load; a checksum of the key names the file.
 
 Safety: files are written to a temporary file in the same directory and renamed into
 place (readers never see a partial file); a file that fails to load is rebuilt; an
@@ -16,12 +17,12 @@ only from a directory owned by the current user and not writable by others.
 
 from __future__ import annotations
 
-import hashlib
 import importlib.util
 import os
 import re
 import stat
 import tempfile
+import zlib
 from pathlib import Path
 from typing import Any, Callable, TypeVar
 
@@ -57,11 +58,8 @@ def lark_version() -> str:
 
 
 def cache_key(*parts: str) -> str:
-    digest = hashlib.sha256()
-    for part in parts:
-        digest.update(part.encode("utf-8"))
-        digest.update(b"\0")
-    return digest.hexdigest()[:40]
+    """The key of an entry: every part, verbatim (not a digest: compared exactly)."""
+    return "\0".join(parts)
 
 
 def _private(folder: Path) -> bool:
@@ -104,23 +102,34 @@ def write_entry(name: str, data: bytes) -> bool:
     return True
 
 
+def _split(data: bytes, key: bytes) -> bytes | None:
+    """The payload of an entry ``<len(key)>\\n<key><payload>`` stored under ``key``."""
+    size, newline, rest = data.partition(b"\n")
+    if not newline or not size.isdigit() or rest[:int(size)] != key or int(size) != len(key):
+        return None
+    return rest[len(key):]
+
+
 def cached(name: str, key: str, build: Callable[[], T], dump: Callable[[T], bytes],
            load: Callable[[bytes], T], require_private: bool = False) -> T:
     """``load`` of the stored entry for ``key``, else ``build()`` (stored via ``dump``).
-    A stored entry that ``load`` rejects (any ``Exception``) is rebuilt and replaced."""
-    entry = f"{name}-{key}"
+    An entry whose stored key differs, or that ``load`` rejects (any ``Exception``), is
+    rebuilt and replaced."""
+    raw_key = key.encode("utf-8")
+    entry = f"{name}-{zlib.crc32(raw_key):08x}{len(raw_key):06x}"
     data = read_entry(entry, require_private)
-    if data is not None:
+    payload = _split(data, raw_key) if data is not None else None
+    if payload is not None:
         try:
-            return load(data)
-        except Exception:  # a corrupt or foreign entry: rebuild below
+            return load(payload)
+        except Exception:  # a corrupt entry: rebuild below
             pass
     value = build()
     try:
         payload = dump(value)
     except Exception:  # an unpicklable value must not break parsing
         return value
-    write_entry(entry, payload)
+    write_entry(entry, b"%d\n" % len(raw_key) + raw_key + payload)
     return value
 
 
