@@ -3,8 +3,8 @@
 Compiling a Lark grammar into LALR(1) tables costs 0.1–0.4 s per process, more than
 the rest of a small ``stampc check`` or ``stampc solve``. The compiled form is stored
 in the user's cache directory and reused while the grammar text, the Lark version and
-the stored format are unchanged: all three (the entry's *key*) are stored in the entry
-and compared exactly on load; a checksum of the key names the file.
+the code that shapes the stored form are unchanged: all of it (the entry's *key*) is
+stored in the entry and compared exactly on load; a checksum of the key names the file.
 
 Safety: files are written to a temporary file in the same directory and renamed into
 place (readers never see a partial file); a file that fails to load is rebuilt; an
@@ -55,6 +55,19 @@ def lark_version() -> str:
         return found.group(1)
     st = os.stat(spec.origin)  # unknown layout: any change to the file changes the key
     return f"{spec.origin}:{st.st_size}:{st.st_mtime_ns}"
+
+
+def file_stamp(*paths: str | Path) -> str:
+    """Size and modification time of source files, for keys of entries whose form depends
+    on code (an edited module must not reuse what its old version stored)."""
+    stamps = []
+    for path in paths:
+        try:
+            st = os.stat(path)
+            stamps.append(f"{st.st_size}:{st.st_mtime_ns}")
+        except OSError:
+            stamps.append("?")
+    return ",".join(stamps)
 
 
 def cache_key(*parts: str) -> str:

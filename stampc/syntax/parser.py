@@ -27,8 +27,8 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from stampc.diagnostics import Diagnostic, Span, error
-from stampc.grammar_cache import cache_key, cached, lark_version
-from stampc.syntax import ast
+from stampc.grammar_cache import cache_key, cached, file_stamp, lark_version
+from stampc.syntax import ast, layout
 from stampc.syntax.build import Builder
 from stampc.syntax.gcpause import no_gc_pauses
 from stampc.syntax.layout import LexError, LexerSpec, tokenize
@@ -84,7 +84,8 @@ def tables() -> Tables:
     """The compiled tables, from the on-disk cache when the grammar and Lark are unchanged
     (so most runs never import Lark; see :mod:`stampc.grammar_cache`)."""
     text = grammar_text()
-    key = cache_key("stamp-tables", TABLES_FORMAT, lark_version(), text)
+    code = file_stamp(__file__, layout.__file__)  # an edited table builder rebuilds
+    key = cache_key("stamp-tables", TABLES_FORMAT, lark_version(), code, text)
     return cached("stamp-tables", key, lambda: compile_tables(text), _tables_to_json,
                   _tables_from_json)
 
