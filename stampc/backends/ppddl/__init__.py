@@ -11,19 +11,12 @@ Names resolve lazily, so importing PPDDL does not load the emitter's jinja2 temp
 
 from __future__ import annotations
 
-from importlib import import_module
+from stampc.lazy import lazy_exports
 
-_LAZY = {
+_LAZY = {name: f"stampc.backends.ppddl.{module}" for name, module in {
     "emit_ppddl": "emitter", "model_to_ppddl": "model_export", "import_domain_only": "importer",
     "import_ppddl": "importer", "import_ppddl_text": "importer",
-}
+}.items()}
 
 __all__ = sorted(_LAZY)
-
-
-def __getattr__(name: str):
-    if name in _LAZY:
-        value = getattr(import_module(f"stampc.backends.ppddl.{_LAZY[name]}"), name)
-        globals()[name] = value  # resolved once
-        return value
-    raise AttributeError(f"module 'stampc.backends.ppddl' has no attribute {name!r}")
+__getattr__, __dir__ = lazy_exports(globals(), _LAZY)
