@@ -44,8 +44,8 @@ def _split(rels: list[str], fast: list[str]) -> list:
             for rel in rels]
 
 
-GROUND_CASES = _split(_within_budget(instances() if GROUND_ALL else ground_instances(8)),
-                      ground_instances(1))
+GROUND_RELS = _within_budget(instances() if GROUND_ALL else ground_instances(8))
+GROUND_CASES = _split(GROUND_RELS, ground_instances(1))
 #: Every instance is compared lifted; the two smallest per directory by default.
 LIFTED_CASES = _split(instances(), ground_instances(2))
 
@@ -101,4 +101,7 @@ def test_every_benchmark_file_is_listed(ppddl_benchmarks: Path) -> None:
     assert len(instances()) == 298
     # the grounded comparison keeps covering every benchmark directory
     directories = {rel.split("/")[0] for rel in instances()}
-    assert {rel.split("/")[0] for rel in GROUND_CASES} == directories and len(GROUND_CASES) >= 120
+    assert {rel.split("/")[0] for rel in GROUND_RELS} == directories and len(GROUND_RELS) >= 120
+    # ... and so does the default run's share of it (the smallest instance of each)
+    fast = set(ground_instances(1))
+    assert {rel.split("/")[0] for rel in GROUND_RELS if rel in fast} == directories

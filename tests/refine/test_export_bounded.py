@@ -53,18 +53,18 @@ def test_bounded_view_keeps_the_nodes_nearest_the_root():
 
 
 def test_large_policy_outputs_are_collapsed_and_say_so(model, tmp_path):
-    graph = binary_tree(20_000)
+    graph = binary_tree(3_000)
     notes = write_outputs(tmp_path, model, graph, result(), {}, {"problem": "big"})
     svg = (tmp_path / "policy.svg").read_text()
     shown = re.findall(r"<text[^>]*>([^<]*)</text>", svg)
     markers = [t for t in shown if t.strip().endswith("more")]
     assert markers and len(shown) - len(markers) <= SVG_MAX_NODES
     assert len(svg) < 1_000_000
-    assert any("policy.svg" in n and "20000" in n and "collapsed" in n for n in notes)
+    assert any("policy.svg" in n and "3000" in n and "collapsed" in n for n in notes)
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["notes"] == notes
     policy = json.loads((tmp_path / "policy.json").read_text())
-    assert len(policy["nodes"]) == 20_000    # the policy itself is never cut
+    assert len(policy["nodes"]) == 3_000    # the policy itself is never cut
 
 
 def test_dot_collapses_above_its_limit(model):
