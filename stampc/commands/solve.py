@@ -112,7 +112,9 @@ def run(args: argparse.Namespace) -> int:
         if args.output:
             write_policy_json(args.output, model, solution)
         if args.dot:
-            write_policy_dot(args.dot, model, solution)
+            note = write_policy_dot(args.dot, model, solution)
+            if note:
+                print(f"note: {note}", file=sys.stderr)
     except OSError as exc:
         print(f"error: cannot write output: {exc}", file=sys.stderr)
         return 2
