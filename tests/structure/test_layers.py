@@ -4,6 +4,7 @@ import cycles (lazy imports inside functions count; ``if TYPE_CHECKING:`` ones d
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import networkx as nx
@@ -56,6 +57,7 @@ def imported(tree: ast.AST) -> list[str]:
     return [name for name in found if name == "stampc" or name.startswith("stampc.")]
 
 
+@functools.lru_cache(maxsize=1)
 def import_graph() -> nx.DiGraph:
     modules = {module_name(p): p for p in ROOT.rglob("*.py")}
     graph = nx.DiGraph()
