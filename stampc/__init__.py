@@ -8,9 +8,8 @@ stays fast and never touches simulators.
 
 from __future__ import annotations
 
-from importlib import import_module
-
 from stampc.diagnostics import Diagnostic, Severity, Span, StampcError
+from stampc.lazy import lazy_exports
 
 __version__ = "0.1.0"
 
@@ -23,9 +22,4 @@ _LAZY = {
 }
 
 __all__ = ["Diagnostic", "Severity", "Span", "StampcError", "__version__", *_LAZY]
-
-
-def __getattr__(name: str):
-    if name in _LAZY:
-        return getattr(import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'stampc' has no attribute {name!r}")
+__getattr__, __dir__ = lazy_exports(globals(), _LAZY)

@@ -2,7 +2,7 @@
 
     import stampc
     model = stampc.compile("examples/cluttered_table/domain.stamp", "examples/cluttered_table/problem.stamp")
-    ground = model.ground()
+    ground = stampc.ground(model)
     solution = stampc.solve(ground)
     run = stampc.refine_policy(["domain.stamp", "problem.stamp"], world="plane2d")
 
@@ -65,24 +65,9 @@ def solve(ground_model, options=None, **kwargs):
 
 
 def to_ppddl(model: Model) -> tuple[str, str]:
-    """PPDDL (domain, problem) text. Generated (continuous) parameters stay parameters;
-    grounding supplies their Skolem symbols and the certified facts that bind them."""
-    from stampc.backends.ppddl.emitter import emit_ppddl
-    from stampc.ir.lifted import Atom, Const, Object
-
-    gm = ground(model)
-    known = {o.name for o in model.problem.objects} | {c.name for c in model.domain.constants}
-    symbols = tuple(Object(n, t, symbolic=True) for n, t in gm.objects if n not in known)
-    certified = {a.predicate for g in model.domain.generators for a in g.certifies}
-    # `?` facts assumed true (optimistic) start true: PPDDL needs them in :init
-    assumed = {p.name for p in model.domain.predicates if p.unknowable and p.optimistic}
-    initial = {a for a in model.problem.init}
-    facts = tuple(Atom(f.predicate, tuple(Const(a) for a in f.args))
-                  for f in gm.static_facts if f.predicate in certified)
-    facts += tuple(atom for atom in (Atom(f.predicate, tuple(Const(a) for a in f.args))
-                                     for f in gm.state_facts(gm.init) if f.predicate in assumed)
-                   if atom not in initial)
-    return emit_ppddl(model, extra_objects=symbols, extra_init=facts)
+    """PPDDL (domain, problem) text (see ``stampc.backends.ppddl.model_export``)."""
+    from stampc.backends.ppddl.model_export import model_to_ppddl
+    return model_to_ppddl(model)
 
 
 def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", options=None,

@@ -8,8 +8,6 @@ from pathlib import Path
 
 from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input, reports_errors
 from stampc.diagnostics import Severity, SourceCache, StampcError, render_human, render_json, summary_line
-from stampc.semantics.api import analyze, unique_sorted
-from stampc.semantics.loader import source_from_text
 
 HELP = "check stamp domains and problems for errors and warnings"
 
@@ -24,6 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 @reports_errors("check")
 def run(args: argparse.Namespace) -> int:
+    from stampc.semantics.api import analyze, unique_sorted
+    from stampc.semantics.loader import source_from_text
+
     sources, unreadable = [], []
     for name in args.files:
         try:

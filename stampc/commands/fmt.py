@@ -8,8 +8,6 @@ from pathlib import Path
 
 from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input, reports_errors
 from stampc.diagnostics import SourceCache, StampcError, render_human, summary_line
-from stampc.syntax.fmt import format_program
-from stampc.syntax.parser import parse_source
 
 HELP = "format stamp files canonically (prints to stdout unless --write or --check)"
 
@@ -24,6 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 @reports_errors("fmt")
 def run(args: argparse.Namespace) -> int:
+    from stampc.syntax.fmt import format_program
+    from stampc.syntax.parser import parse_source
+
     status = EXIT_DONE
     for name in args.files:
         path = Path(name)

@@ -71,9 +71,11 @@ def run(args: argparse.Namespace) -> int:
               "state (no policy reaches it with probability > 0)", file=sys.stderr)
         return EXIT_INPUT
     if args.output:
-        run_.write(Path(args.output))
+        notes = run_.write(Path(args.output))
         print(f"wrote {args.output}/policy.json, coverage.csv, coverage.png, policy.dot, "
               "policy.svg, summary.json")
+        for note in notes:
+            print(f"note: {note}")
     if result.coverage >= args.target_coverage - 1e-9:
         return EXIT_DONE
     print(f"stampc refine: stopped short of the target coverage {args.target_coverage:g} "

@@ -77,10 +77,10 @@ def _print_text(report: dict) -> None:
 
 @reports_errors("solve")
 def run(args: argparse.Namespace) -> int:
+    from stampc import api
     from stampc.solvers import SolverOptions, check_options, simulate, solve
     from stampc.solvers.export import write_policy_dot, write_policy_json
     from stampc.inputs import check_input_files, existing_file
-    from stampc.solvers.loading import load_ground_model
 
     options = SolverOptions(algorithm=args.algorithm, heuristic=args.heuristic,
                             epsilon=args.epsilon, dead_end_cost=args.dead_end_cost,
@@ -93,11 +93,12 @@ def run(args: argparse.Namespace) -> int:
         for d in exc.diagnostics:
             print(f"error: {d.message}" + (f" ({d.hint})" if d.hint else ""), file=sys.stderr)
         return 2
+    if not 1 <= len(args.files) <= 2:
+        print(f"stampc solve: error: expected DOMAIN [PROBLEM] or one file, got "
+              f"{len(args.files)} files", file=sys.stderr)
+        return 2
     check_input_files([existing_file(Path(f)) for f in args.files])  # I/O: exit 2, I00x: 1
-    try:
-        model = load_ground_model(args.files)
-    except SystemExit as exc:
-        return int(exc.code or 0)
+    model = api.ground(api.load_model(args.files))  # StampcError: exit 1 (reports_errors)
     parse_ground_s = time.perf_counter() - start
     solution = solve(model, options)
     total_s = time.perf_counter() - start
@@ -109,7 +110,9 @@ def run(args: argparse.Namespace) -> int:
         if args.output:
             write_policy_json(args.output, model, solution)
         if args.dot:
-            write_policy_dot(args.dot, model, solution)
+            note = write_policy_dot(args.dot, model, solution)
+            if note:
+                print(f"note: {note}", file=sys.stderr)
     except OSError as exc:
         print(f"error: cannot write output: {exc}", file=sys.stderr)
         return 2

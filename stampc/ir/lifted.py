@@ -326,17 +326,10 @@ class Problem:
 
 @dataclass(frozen=True)
 class Model:
-    """A lifted domain + problem pair: the compiler's main product."""
+    """A lifted domain + problem pair: the compiler's main product.
+
+    Plain data: stages operate on it (``stampc.ground(model)``, ``stampc.to_ppddl(model)``),
+    so the IR imports nothing from the stages above it."""
 
     domain: Domain
     problem: Problem
-
-    def ground(self):
-        """The grounded model (see ``stampc.ir.ground``)."""
-        from stampc.api import ground
-        return ground(self)
-
-    def to_ppddl(self) -> tuple[str, str]:
-        """PPDDL (domain, problem) text (see ``stampc.backends.ppddl``)."""
-        from stampc.api import to_ppddl
-        return to_ppddl(self)

@@ -37,10 +37,13 @@ class RefinedPolicy:
             return {}
         return policy_json(self.model, self.graph, self.result, self.initial_values, self.meta)
 
-    def write(self, out_dir: str | Path) -> None:
-        if self.graph is not None:
-            write_outputs(Path(out_dir), self.model, self.graph, self.result,
-                          self.initial_values, self.meta)
+    def write(self, out_dir: str | Path) -> list[str]:
+        """Write the outputs (see ``stampc.refine.export``); returns notes on anything
+        shortened to keep writing bounded, e.g. a collapsed policy.svg."""
+        if self.graph is None:
+            return []
+        return write_outputs(Path(out_dir), self.model, self.graph, self.result,
+                             self.initial_values, self.meta)
 
 
 def run_refinement(model: GroundModel, world: Any, bindings: ResolvedBindings,

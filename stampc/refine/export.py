@@ -3,12 +3,19 @@ summary.json.
 
 policy.json is deterministic for a given seed (no timings in it), so it can be diffed;
 timings live in coverage.csv and summary.json.
+
+Writing stays bounded for large policies: policy.json and policy.dot are linear in the
+graph; policy.svg (a matplotlib drawing, whose cost grows much faster: a 2 MB drawing
+took about a minute) shows at most ``SVG_MAX_NODES`` nodes, those nearest the root, and
+policy.dot at most ``DOT_MAX_NODES``; the rest are collapsed into "+k more" markers and a
+note says so (summary.json ``notes``; the command line prints it).
 """
 
 from __future__ import annotations
 
 import csv
 import json
+from collections import deque
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -19,6 +26,9 @@ from stampc.worlds.base import to_json
 
 POLICY_FORMAT = "stampc-policy"
 POLICY_VERSION = 2
+#: Most policy nodes shown in policy.svg / policy.dot (breadth-first from the root).
+SVG_MAX_NODES = 100
+DOT_MAX_NODES = 20_000
 
 
 def _facts(model: GroundModel, mask: int) -> list[str]:
@@ -68,20 +78,40 @@ def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
             "nodes": nodes}
 
 
-def policy_dot(model: GroundModel, graph: PolicyGraph) -> str:
+def policy_dot(model: GroundModel, graph: PolicyGraph,
+               limit: int = DOT_MAX_NODES) -> tuple[str, str | None]:
+    """Graphviz DOT of the policy graph (at most ``limit`` nodes, nearest the root first;
+    the rest collapsed into "+k more" markers) and a note when it was collapsed."""
+    drawn, hidden = bounded_view(graph, limit)
+    kept = set(drawn)
+    labels: dict[int, str] = {}
     lines = ["digraph policy {", '  node [shape=box, fontname="Helvetica"];']
-    for uid in graph.reachable():
+    for uid in drawn:
         node = graph[uid]
         if node.is_leaf:
             label, style = node.leaf or "leaf", "ellipse"
         else:
-            label, style = model.actions[node.action].label, "box"
+            if node.action not in labels:
+                labels[node.action] = _escape(model.actions[node.action].label)
+            label, style = labels[node.action], "box"
         color = "palegreen" if node.refined or node.leaf in ("goal",) else "lightgrey"
-        lines.append(f'  n{uid} [label="{_escape(label)}", shape={style}, style=filled, fillcolor={color}];')
+        lines.append(f'  n{uid} [label="{label}", shape={style}, style=filled, fillcolor={color}];')
         for e in node.edges:
-            lines.append(f'  n{uid} -> n{e.child} [label="{e.probability:.3g}"];')
+            if e.child in kept:
+                lines.append(f'  n{uid} -> n{e.child} [label="{e.probability:.3g}"];')
+        if uid in hidden:
+            lines.append(f'  more{uid} [label="+{hidden[uid]} more", shape=plaintext];')
+            lines.append(f"  n{uid} -> more{uid} [style=dashed];")
     lines.append("}")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines) + "\n", _collapsed_note("policy.dot", len(drawn), graph)
+
+
+def _collapsed_note(name: str, drawn: int, graph: PolicyGraph) -> str | None:
+    total = len(graph.reachable())
+    if total <= drawn:
+        return None
+    return (f"{name}: shows the {drawn} nodes nearest the root of {total}; the other "
+            f"{total - drawn} are collapsed into '+k more' markers (policy.json has them all)")
 
 
 def _escape(text: str) -> str:
@@ -117,33 +147,66 @@ def write_coverage_png(result: RefineResult, path: Path, title: str = "") -> Non
     plt.close(fig)
 
 
-def write_policy_svg(model: GroundModel, graph: PolicyGraph, path: Path) -> None:
-    """Draw the policy graph by depth with networkx + matplotlib (no Graphviz needed)."""
+def bounded_view(graph: PolicyGraph, limit: int) -> tuple[list[int], dict[int, int]]:
+    """The nodes to draw, breadth-first from the root (at most ``limit``), and for each
+    drawn node the number of its children left out."""
+    drawn: list[int] = []
+    seen = {graph.root}
+    queue = deque([graph.root])
+    while queue and len(drawn) < limit:
+        uid = queue.popleft()
+        drawn.append(uid)
+        for e in graph[uid].edges:
+            if e.child not in seen:
+                seen.add(e.child)
+                queue.append(e.child)
+    kept = set(drawn)
+    hidden = {u: n for u in drawn
+              if (n := len({e.child for e in graph[u].edges} - kept))}
+    return drawn, hidden
+
+
+def write_policy_svg(model: GroundModel, graph: PolicyGraph, path: Path,
+                     limit: int = SVG_MAX_NODES) -> str | None:
+    """Draw the policy graph by depth with networkx + matplotlib (no Graphviz needed);
+    above ``limit`` nodes the drawing is collapsed. Returns a note when it was."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import networkx as nx
 
+    drawn, hidden = bounded_view(graph, limit)
+    kept = set(drawn)
     g = nx.DiGraph()
-    for uid in graph.reachable():
+    for uid in drawn:
         node = graph[uid]
         g.add_node(uid, layer=node.depth,
                    label=node.leaf if node.is_leaf else model.actions[node.action].name)
         for e in node.edges:
-            g.add_edge(uid, e.child)
+            if e.child in kept:
+                g.add_edge(uid, e.child)
+    for uid, count in hidden.items():
+        marker = f"+{uid}"
+        g.add_node(marker, layer=graph[uid].depth + 1, label=f"+{count} more")
+        g.add_edge(uid, marker)
     pos = nx.multipartite_layout(g, subset_key="layer", align="horizontal", scale=-1)
-    fig, ax = plt.subplots(figsize=(max(6, len(g) * 0.25), 6))
-    colors = ["palegreen" if graph[u].refined or graph[u].leaf == "goal" else "lightgrey" for u in g]
+    fig, ax = plt.subplots(figsize=(min(60, max(6, len(g) * 0.25)), 6))
+    colors = ["white" if isinstance(u, str) else "palegreen"
+              if graph[u].refined or graph[u].leaf == "goal" else "lightgrey" for u in g]
     nx.draw_networkx(g, pos, ax=ax, labels=nx.get_node_attributes(g, "label"),
-                     node_color=colors, node_size=300, font_size=6, arrows=True)
+                     node_color=colors, node_size=300, font_size=6,
+                     arrows=False)  # a LineCollection: arrow patches cost ~40 ms each
     ax.set_axis_off()
-    fig.tight_layout()
-    fig.savefig(path, format="svg")
+    fig.subplots_adjust(0.01, 0.01, 0.99, 0.99)  # tight_layout would draw everything twice
+    with matplotlib.rc_context({"svg.fonttype": "none"}):  # <text>, not glyph outlines
+        fig.savefig(path, format="svg")
     plt.close(fig)
+    return _collapsed_note(path.name, len(drawn), graph)
 
 
-def summary_json(result: RefineResult, meta: Mapping[str, Any]) -> dict:
-    return {**dict(meta), "coverage": result.coverage, "goal_probability": result.goal_probability,
+def summary_json(result: RefineResult, meta: Mapping[str, Any],
+                 notes: list[str] | None = None) -> dict:
+    return {**dict(meta), "notes": list(notes or []), "coverage": result.coverage, "goal_probability": result.goal_probability,
             "abstract_goal_probability": result.abstract_goal_probability,
             "wall_time_s": result.wall_time_s, "time_to_coverage": result.time_to_coverage,
             "prg_nodes": result.prg_nodes, "refined_paths": result.refined_paths,
@@ -152,12 +215,16 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any]) -> dict:
 
 
 def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result: RefineResult,
-                  initial_values: Mapping[str, Any], meta: Mapping[str, Any]) -> None:
+                  initial_values: Mapping[str, Any], meta: Mapping[str, Any]) -> list[str]:
+    """Write every output; returns notes on what was shortened (also in summary.json)."""
     out_dir.mkdir(parents=True, exist_ok=True)
     policy = policy_json(model, graph, result, initial_values, meta)
     (out_dir / "policy.json").write_text(json.dumps(policy, indent=1, sort_keys=True))
-    (out_dir / "policy.dot").write_text(policy_dot(model, graph))
-    write_policy_svg(model, graph, out_dir / "policy.svg")
+    dot, dot_note = policy_dot(model, graph)
+    (out_dir / "policy.dot").write_text(dot)
+    svg_note = write_policy_svg(model, graph, out_dir / "policy.svg")
+    notes = [note for note in (dot_note, svg_note) if note]
     write_coverage_csv(result, out_dir / "coverage.csv")
     write_coverage_png(result, out_dir / "coverage.png", str(meta.get("problem", "")))
-    (out_dir / "summary.json").write_text(json.dumps(summary_json(result, meta), indent=2))
+    (out_dir / "summary.json").write_text(json.dumps(summary_json(result, meta, notes), indent=2))
+    return notes

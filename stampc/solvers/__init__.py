@@ -1,17 +1,22 @@
 """SSP solvers over the grounded IR: LAO*, LRTDP, VI; heuristics; policy trees.
 
-See docs/solvers.md for the algorithms, options and cost conventions.
+See docs/solvers.md for the algorithms, options and cost conventions. Names are
+resolved lazily (module ``__getattr__``) so that listing ``ALGORITHMS`` for the command
+line does not import the solvers and the grounded IR.
 """
 
-from stampc.solvers.api import check_options, solve
-from stampc.solvers.heuristics import ADMISSIBLE, HEURISTICS, make_heuristic
-from stampc.solvers.simulate import SimulationResult, simulate
-from stampc.solvers.solution import ALGORITHMS, Solution, SolverOptions
-from stampc.solvers.successors import SuccessorCache
-from stampc.solvers.tree import TreeEdge, TreeNode, count_leaves, iter_paths, policy_tree
+from __future__ import annotations
 
-__all__ = [
-    "ADMISSIBLE", "ALGORITHMS", "HEURISTICS", "SimulationResult", "Solution", "SolverOptions",
-    "SuccessorCache", "TreeEdge", "TreeNode", "check_options", "count_leaves", "iter_paths",
-    "make_heuristic", "policy_tree", "simulate", "solve",
-]
+from stampc.lazy import lazy_exports
+
+_LAZY = {name: f"stampc.solvers.{module}" for name, module in {
+    "ADMISSIBLE": "names", "ALGORITHMS": "names", "HEURISTICS": "names",
+    "check_options": "api", "solve": "api", "make_heuristic": "heuristics",
+    "SimulationResult": "simulation", "simulate": "simulation",
+    "Solution": "solution", "SolverOptions": "solution", "SuccessorCache": "successors",
+    "TreeEdge": "tree", "TreeNode": "tree", "count_leaves": "tree", "iter_paths": "tree",
+    "policy_tree": "tree",
+}.items()}
+
+__all__ = sorted(_LAZY)
+__getattr__, __dir__ = lazy_exports(globals(), _LAZY)

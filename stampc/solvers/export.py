@@ -71,11 +71,18 @@ def _quote(text: str) -> str:
     return '"' + _escape(text) + '"'
 
 
-def policy_dot(model: GroundModel, solution: Solution, max_facts: int = 12) -> str:
+#: Most (state, t) nodes written to a policy DOT file (in depth-first order from the
+#: initial state, so what is shown stays connected); the rest are counted in a note.
+DOT_MAX_NODES = 20_000
+
+
+def policy_dot(model: GroundModel, solution: Solution, max_facts: int = 12,
+               limit: int = DOT_MAX_NODES) -> str:
     """The policy graph: one node per (state, t), edges labelled with action and outcome
-    probability; goal nodes double-circled, dead ends / horizon nodes boxed."""
+    probability; goal nodes double-circled, dead ends / horizon nodes boxed. Above
+    ``limit`` nodes the rest is left out and a ``more`` node says how many."""
     nodes = solution.policy_nodes()
-    ids = {key: f"n{i}" for i, key in enumerate(nodes)}
+    ids = {key: f"n{i}" for i, key in enumerate(nodes[:limit])}
     lines = ["digraph policy {", "  rankdir=LR;", '  node [fontsize=10, shape=ellipse];']
     for (state, t), nid in ids.items():
         action = solution.action(state, t)
@@ -100,10 +107,19 @@ def policy_dot(model: GroundModel, solution: Solution, max_facts: int = 12) -> s
                 continue  # only when the solve stopped early (time limit)
             text = f"{model.actions[action].label} p={p:.3g}"
             lines.append(f"  {nid} -> {target} [label={_quote(text)}];")
+    if len(nodes) > limit:
+        lines.append(f'  more [label="+{len(nodes) - limit} more states not shown", shape=plaintext];')
     lines.append("}")
     return "\n".join(lines) + "\n"
 
 
-def write_policy_dot(path: str, model: GroundModel, solution: Solution) -> None:
+def write_policy_dot(path: str, model: GroundModel, solution: Solution,
+                     limit: int = DOT_MAX_NODES) -> str | None:
+    """Write the policy DOT; returns a note when the graph was cut at ``limit`` nodes."""
     with open(path, "w", encoding="utf-8") as fh:
-        fh.write(policy_dot(model, solution))
+        fh.write(policy_dot(model, solution, limit=limit))
+    total = len(solution.policy_nodes())
+    if total <= limit:
+        return None
+    return (f"{path}: shows the first {limit} of {total} policy states (depth-first from "
+            f"the initial state); the rest are left out to keep writing bounded")

@@ -29,10 +29,8 @@ from fractions import Fraction
 from typing import Callable
 
 from stampc.ir.grounded import GAnd, GEffect, GFormula, GLit, GroundCondition, GroundModel
+from stampc.solvers.names import ADMISSIBLE, HEURISTICS  # noqa: F401  (re-exported)
 from stampc.solvers.successors import iter_bits
-
-HEURISTICS = ("zero", "hmax", "hadd", "hff")
-ADMISSIBLE = {"zero": True, "hmax": True, "hadd": False, "hff": False}
 
 Heuristic = Callable[[int], float]
 

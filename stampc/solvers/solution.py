@@ -5,9 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from stampc.solvers.core import Search
+from stampc.solvers.names import ALGORITHMS  # noqa: F401  (re-exported)
 from stampc.solvers.successors import SuccessorCache
-
-ALGORITHMS = ("lao", "lrtdp", "vi")
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,7 @@
 """Parsing stamp source text into an :class:`ast.Program` plus syntax diagnostics.
 
-Lark compiles ``grammar/stamp.lark`` into an LALR(1) table once per process; a small
+Lark compiles ``grammar/stamp.lark`` into an LALR(1) table, kept in an on-disk cache
+(:mod:`stampc.grammar_cache`) so that most processes never import Lark; a small
 driver here runs that table over the tokens of :mod:`stampc.syntax.layout` and shapes
 children exactly as Lark's tree builder would (``?rule`` inlining, filtered anonymous
 tokens, ``_rule`` splicing, ``[..]`` placeholders) before calling the AST callbacks of
@@ -18,17 +19,16 @@ from __future__ import annotations
 
 import functools
 import importlib.resources
+import json
 import operator
 import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
-from lark import Lark
-from lark.parsers.lalr_analysis import Shift
-
 from stampc.diagnostics import Diagnostic, Span, error
-from stampc.syntax import ast
+from stampc.grammar_cache import cache_key, cached, file_stamp, lark_version
+from stampc.syntax import ast, layout
 from stampc.syntax.build import Builder
 from stampc.syntax.gcpause import no_gc_pauses
 from stampc.syntax.layout import LexError, LexerSpec, tokenize
@@ -75,9 +75,43 @@ class Tables:
     pattern: re.Pattern
 
 
+#: Bump when the stored form of :class:`Tables` changes (part of the cache key).
+TABLES_FORMAT = "1"
+
+
 @functools.lru_cache(maxsize=1)
 def tables() -> Tables:
-    lark = Lark(grammar_text(), parser="lalr", lexer="basic", maybe_placeholders=True)
+    """The compiled tables, from the on-disk cache when the grammar and Lark are unchanged
+    (so most runs never import Lark; see :mod:`stampc.grammar_cache`)."""
+    text = grammar_text()
+    code = file_stamp(__file__, layout.__file__)  # an edited table builder rebuilds
+    key = cache_key("stamp-tables", TABLES_FORMAT, lark_version(), code, text)
+    return cached("stamp-tables", key, lambda: compile_tables(text), _tables_to_json,
+                  _tables_from_json)
+
+
+def _tables_to_json(t: Tables) -> bytes:
+    plans = [[p.name, p.origin, p.size, p.keep, p.trailing, p.expand1] for p in t.plans]
+    return json.dumps({"actions": t.actions, "gotos": t.gotos, "plans": plans, "start": t.start,
+                       "end": t.end, "keywords": t.lexer.keywords,
+                       "punctuation": t.lexer.punctuation}).encode("utf-8")
+
+
+def _tables_from_json(data: bytes) -> Tables:
+    raw = json.loads(data)
+    plans = tuple(RulePlan(name, origin, size, tuple(tuple(k) for k in keep), trailing, expand1)
+                  for name, origin, size, keep, trailing, expand1 in raw["plans"])
+    spec = LexerSpec(dict(raw["keywords"]), dict(raw["punctuation"]))
+    return Tables(tuple(map(dict, raw["actions"])), tuple(map(dict, raw["gotos"])), plans,
+                  int(raw["start"]), int(raw["end"]), spec, spec.pattern())
+
+
+def compile_tables(grammar: str) -> Tables:
+    """Lark's LALR(1) compilation of ``grammar``, reshaped for :func:`_drive`."""
+    from lark import Lark
+    from lark.parsers.lalr_analysis import Shift
+
+    lark = Lark(grammar, parser="lalr", lexer="basic", maybe_placeholders=True)
     table = lark.parser.parser.parser.parse_table  # Lark's compiled LALR(1) table
     rule_index = {rule: i for i, rule in enumerate(lark.rules)}
     nonterminals = {str(rule.origin.name) for rule in lark.rules}

@@ -96,7 +96,7 @@ def test_topple_executor_lays_dominoes_down():
         world.close()
 
 
-@pytest.mark.parametrize("k", [2, 3])
+@pytest.mark.parametrize("k", [2, pytest.param(3, marks=pytest.mark.slow)])
 def test_refine_to_full_coverage_and_replay(tmp_path, k):
     problem = dom.write_problem(tmp_path / "p.stamp", 10 if k == 2 else 8, k, 0)
     inst = dom.instance(10 if k == 2 else 8, k, 0)

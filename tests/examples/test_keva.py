@@ -108,7 +108,8 @@ def _checked(fn, failures: list[str]):
     return run
 
 
-@pytest.mark.parametrize("structure,levels", [("pi", 1), ("tower", 3)])
+@pytest.mark.parametrize("structure,levels",
+                         [("pi", 1), pytest.param("tower", 3, marks=pytest.mark.slow)])
 def test_refine_to_full_coverage_and_replay(tmp_path, structure, levels):
     problem = kv.write_problem(tmp_path / "p.stamp", structure, levels, 0)
     run = refine_policy([DOMAIN, problem], world="pybullet",

@@ -14,15 +14,12 @@ from stampc.ir.json_io import grounded_from_json, grounded_to_json
 
 importer = pytest.importorskip("stampc.backends.ppddl.importer")
 
-#: per domain directory, how many of the (sorted) problem files to ground
-PER_DOMAIN = 3
-
-
-def problem_files(root: Path) -> list[Path]:
+def problem_files(root: Path, per_domain: int) -> list[Path]:
+    """The first ``per_domain`` (sorted) problem files of every domain directory."""
     out = []
     for d in sorted(p for p in root.iterdir() if p.is_dir()):
         files = sorted(f for f in d.glob("*.pddl") if f.name not in ("domain.pddl", "sample.pddl"))
-        out.extend(files[:PER_DOMAIN])
+        out.extend(files[:per_domain])
     return out
 
 
@@ -40,9 +37,11 @@ def check_invariants(gm: GroundModel) -> None:
         assert total == 1, a.label
 
 
-def test_every_domain_grounds_with_invariants(ppddl_benchmarks):
-    files = problem_files(ppddl_benchmarks)
-    assert len(files) >= 40
+# One problem per domain by default; three (about a minute) in the slow run.
+@pytest.mark.parametrize("per_domain", [1, pytest.param(3, marks=pytest.mark.slow)])
+def test_every_domain_grounds_with_invariants(ppddl_benchmarks, per_domain):
+    files = problem_files(ppddl_benchmarks, per_domain)
+    assert len({f.parent for f in files}) >= 20 and len(files) >= 13 * per_domain
     for path in files:
         gm = ground(importer.import_ppddl(path))
         assert gm.actions, path

@@ -22,17 +22,19 @@ from stampc.ir import lifted as L
 from stampc.ir.ground import ground
 from stampc.ir.grounded import GroundModel
 
+#: The slowest random walks (5-15 s each) run in the slow run (`-m slow`).
+SLOW = pytest.mark.slow
 INSTANCES = (
     "ippc2008-boxworld/p01-b10-c5-dc0-fc0-dr0-gr1.pddl",
-    "ippc2008-sysadmin-slp/p01-n4-l1-s1.pddl",
+    pytest.param("ippc2008-sysadmin-slp/p01-n4-l1-s1.pddl", marks=SLOW),
     "ippc2006-schedule/p01.pddl",
     "ippc2008-search-and-rescue/p01-z4.pddl",
     "ippc2006-pitchcatch/p01.pddl",
     "ippc2008-ex-blocksworld/p01.pddl",
-    "ippc2006-drive/p01.pddl",
+    pytest.param("ippc2006-drive/p01.pddl", marks=SLOW),
     "ippc2008-zenotravel/p01.pddl",
     "ippc2006-elevators/p01.pddl",
-    "ippc2006-random/p01.pddl",
+    pytest.param("ippc2006-random/p01.pddl", marks=SLOW),
     "ippc2008-rectangle-tireworld/p01-x5-y5-h2-v2-u0-s1.pddl",
     "ippc2008-blocksworld/p01.pddl",
 )

@@ -95,7 +95,7 @@ def test_interrupt_returns_best_policy_so_far():
 
     model, world, bindings = open_for(SHELF)
     try:
-        refined = run_refinement(model.ground(), world, bindings, RefineOptions(seed=1),
+        refined = run_refinement(stampc.ground(model), world, bindings, RefineOptions(seed=1),
                                  on_event=interrupt_after_three)
     finally:
         world.close()
@@ -128,16 +128,20 @@ def test_horizon_grows_until_the_policy_is_covered():
     assert max(depths) >= 4
 
 
-def test_refined_nodes_survive_every_update():
+# Of seeds 0-9 only seed 7 updates below an already refined prefix on this problem; the
+# default run checks it (and seed 0), the slow run all ten.
+@pytest.mark.parametrize("seeds", [(7, 0), pytest.param(tuple(range(10)), marks=pytest.mark.slow)],
+                         ids=["seeds-7-0", "seeds-0-9"])
+def test_refined_nodes_survive_every_update(seeds):
     """UpdateAbstraction replans below a failing node only: every node refined in the
     parent PRG node is still refined, with the same concretization, in the child.
     Checked over several seeds in UpdateAbstraction mode (at least one updates below
     an already refined prefix)."""
     model, world, bindings = open_for(SHELF)
-    ground = model.ground()
+    ground = stampc.ground(model)
     checked = 0
     try:
-        for seed in range(10):
+        for seed in seeds:
             engine = Engine(ground, world, bindings,
                             RefineOptions(seed=seed, update_probability=1.0, time_limit=60))
             prg_size = 1

@@ -1,6 +1,6 @@
 """PPDDL text → Lark parse tree, with syntax errors turned into located diagnostics.
 
-The grammar (``grammar/ppddl.lark``) is compiled once per process (``lru_cache``) with
+The grammar (``grammar/ppddl.lark``) is compiled once (cached on disk) with
 Lark's LALR(1) parser and contextual lexer, which keeps importing the largest IPPC
 benchmark (SysAdmin p15, 90 kB, 1920 objects) at about 0.2 s.
 """
@@ -17,6 +17,7 @@ from lark.lexer import PatternStr
 
 from stampc.backends.ppddl.codes import SYNTAX, UNSUPPORTED
 from stampc.diagnostics import Diagnostic, Span, StampcError, error
+from stampc.grammar_cache import cached_lark
 
 GRAMMAR_NAME = "ppddl.lark"
 
@@ -66,8 +67,9 @@ def grammar_text() -> str:
 
 @lru_cache(maxsize=1)
 def ppddl_parser() -> lark.Lark:
-    # Positions are propagated so diagnostics on a construct start at its '('.
-    return lark.Lark(grammar_text(), parser="lalr", lexer="contextual",
+    # Positions are propagated so diagnostics on a construct start at its '('. The compiled
+    # parser is kept on disk between processes (start-up time; see stampc.grammar_cache).
+    return cached_lark(grammar_text(), parser="lalr", lexer="contextual",
                      propagate_positions=True, maybe_placeholders=False)
 
 

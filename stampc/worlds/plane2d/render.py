@@ -7,7 +7,7 @@ safe in tests and worker processes.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import TYPE_CHECKING, Iterable, Sequence
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -17,7 +17,9 @@ from matplotlib.patches import Circle, Polygon, Rectangle
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.plane2d.geometry import Box, Disc
 from stampc.worlds.plane2d.values import Traj2, as_traj
-from stampc.worlds.plane2d.world import Plane2DWorld, WorldState
+
+if TYPE_CHECKING:  # annotations only: the world imports this module to render itself
+    from stampc.worlds.plane2d.world import Plane2DWorld, WorldState
 
 _COLORS = {"surface": "#e8dcc8", "table": "#f4efe6", "region": "#dbe9f6",
            "object": "#4c78a8", "held": "#f58518", "static": "#7f7f7f",

@@ -6,14 +6,16 @@ A 640×480 frame costs ~60 ms on the CPU (shadows would multiply that by 2.5).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import TYPE_CHECKING, Iterable, Sequence
 
 import numpy as np
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.pybullet._pb import p
 from stampc.worlds.pybullet.values import Traj, interpolate
-from stampc.worlds.pybullet.world import PyBulletWorld
+
+if TYPE_CHECKING:  # annotations only: the world imports this module to render itself
+    from stampc.worlds.pybullet.world import PyBulletWorld
 
 
 def _camera(world: PyBulletWorld) -> tuple[list[float], float, float, float]:

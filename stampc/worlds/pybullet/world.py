@@ -215,7 +215,7 @@ class PyBulletWorld:
     def render(self, width: int = 480, height: int = 360, **camera: Any) -> Any:
         """An RGB frame (numpy ``height × width × 3``) of the current state, rendered
         with TinyRenderer; ``camera`` as in :func:`.render.render_frame`."""
-        from stampc.worlds.pybullet.render import render_frame  # render imports this module
+        from stampc.worlds.pybullet.render import render_frame  # numpy frames only on demand
         return render_frame(self, width, height, **camera)
 
     def fingerprint(self, state: WorldState) -> tuple:
