@@ -14,17 +14,18 @@ ROOT = Path(__file__).resolve().parents[2] / "stampc"
 # Each area and the areas it may import (besides itself). Lower stages never reach up:
 # the IR does not know the API, the solvers do not know input formats, worlds do not
 # know each other.
-BASE = {"diagnostics", "grammar_cache", "lazy"}
+BASE = {"diagnostics", "grammar_cache", "lazy", "inputs"}
 ALLOWED = {
-    "diagnostics": set(), "grammar_cache": set(), "lazy": set(),
+    "diagnostics": set(), "grammar_cache": set(), "lazy": set(), "inputs": {"diagnostics"},
     "syntax": BASE,
     "semantics": BASE | {"syntax"},
     "ir": BASE | {"syntax", "semantics"},
     "solvers": BASE | {"ir"},
     "backends.ppddl": BASE | {"ir"},
     "worlds.base": BASE | {"ir"},
-    "worlds.bindings": BASE | {"ir", "worlds.base"},
-    "worlds.loading": BASE | {"ir", "worlds.base", "worlds.bindings"},
+    "worlds.modules": set(),
+    "worlds.bindings": BASE | {"ir", "worlds.base", "worlds.modules"},
+    "worlds.loading": BASE | {"ir", "worlds.base", "worlds.bindings", "worlds.modules"},
     "worlds.plane2d": BASE | {"worlds.base"},
     "worlds.pybullet": BASE | {"worlds.base"},
     "refine": BASE | {"ir", "solvers", "worlds.base", "worlds.bindings"},
