@@ -330,6 +330,8 @@ class Model:
 
     domain: Domain
     problem: Problem
+    #: warnings of the front end that built it (e.g. the PPDDL importer's --lenient)
+    diagnostics: tuple = field(default=(), compare=False)
 
     def ground(self):
         """The grounded model (see ``stampc.ir.ground``)."""
