@@ -36,6 +36,8 @@ class Lowering:
     #: names --lenient declared as constants while lowering the domain
     implicit_constants: set[str] = field(default_factory=set)
     _ancestors: dict[str, frozenset[str]] = field(default_factory=dict, repr=False)
+    #: object name -> (Const term, type): large :init sections repeat names many times
+    const_terms: dict = field(default_factory=dict, repr=False)
 
     # ------------------------------------------------------------ reporting
     def err(self, code: str, message: str, node, hint: str | None = None) -> None:

@@ -21,6 +21,7 @@ from stampc.backends.ppddl.reader import LineIndex
 from stampc.backends.ppddl.shape_base import Node
 from stampc.diagnostics import Span, StampcError, error, has_errors, sort_key
 from stampc.ir.lifted import Domain, Model
+from stampc.syntax.gcpause import no_gc_pauses
 
 DOMAIN_FILE = "domain.pddl"
 
@@ -74,7 +75,8 @@ def _read(path: Path) -> str:
 
 
 def _parse(text: str, filename: str) -> list[_Definition]:
-    parsed = parse_text(text, filename)
+    with no_gc_pauses():  # the trees are acyclic; GC scans made large files superlinear
+        parsed = parse_text(text, filename)
     return [_Definition(node.data, str(node.children[0]), node, filename, parsed.index)
             for node in parsed.definitions]
 
@@ -90,7 +92,8 @@ def _build(definitions: list[_Definition], problem_name: str | None, main_file: 
                    predicates=dict(cx.predicates), functions=dict(cx.functions),
                    index=problem.index, lenient=lenient, in_domain=False,
                    implicit_constants=set(cx.implicit_constants))
-    lowered = lower_problem(pcx, problem.tree, domain)
+    with no_gc_pauses():
+        lowered = lower_problem(pcx, problem.tree, domain)
     _raise_if_errors(pcx)
     domain = _with_problem_predicates(domain, pcx)
     return Model(domain, lowered, diagnostics=tuple(sorted(cx.diags + pcx.diags, key=sort_key)))

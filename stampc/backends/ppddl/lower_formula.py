@@ -33,6 +33,9 @@ def term(cx: Lowering, tok: Tok, scope: Scope, expected: str | None = None) -> t
     """A term and its type (``object`` when unknown); ``expected`` is the type of the
     parameter it fills, which --lenient gives an implicit constant."""
     text = tok.text
+    known = cx.const_terms.get(text)
+    if known is not None:
+        return known
     if text[0] == "?":
         name = text[1:]
         kind = scope.get(name)
@@ -44,7 +47,8 @@ def term(cx: Lowering, tok: Tok, scope: Scope, expected: str | None = None) -> t
     obj = cx.objects.get(text)
     if obj is None:
         return Const(text), _undefined_object(cx, tok, expected)
-    return Const(text), obj.type
+    known = cx.const_terms[text] = (Const(text), obj.type)
+    return known
 
 
 def _undefined_object(cx: Lowering, tok: Tok, expected: str | None) -> str:

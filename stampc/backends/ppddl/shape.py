@@ -132,6 +132,9 @@ class Shaper(FormulaShaper):
         return Node(kind, [value], x.start, x.end)
 
     def _init_item(self, x) -> Node:
+        if type(x) is SList and x.items and is_name(x.items[0]) and \
+                x.items[0].text != "probabilistic":  # the common case first
+            return self.atom(x)
         if is_name(x):
             return Node("bare_atom", [x], x.start, x.end)
         if not isinstance(x, SList) or not x.items:
@@ -151,6 +154,4 @@ class Shaper(FormulaShaper):
             self.raise_at(codes.UNSUPPORTED, "unsupported construct: probabilistic initial states",
                           x.items[0].start, x.items[0].end,
                           hint="list the initial facts; stampc reads one initial state")
-        if not is_name(x.items[0]):
-            self.fail(x.items[0], "a predicate name")
-        return self.atom(x)
+        self.fail(x.items[0], "a predicate name")

@@ -32,6 +32,9 @@ UNSUPPORTED_WORDS = {
 }
 FOND_WORD = "oneof"
 _OPS = frozenset("-+*/=")
+#: first characters of a name / of a term (name or ?variable): one set lookup per word
+NAME_START = frozenset("abcdefghijklmnopqrstuvwxyz_")
+TERM_START = NAME_START | {"?"}
 
 
 class Node:
@@ -47,10 +50,7 @@ class Node:
 
 
 def is_name(x) -> bool:
-    if not isinstance(x, Tok):
-        return False
-    c = x.text[0]
-    return c.isalpha() or c == "_"
+    return type(x) is Tok and x.text[0] in NAME_START
 
 
 def is_var(x) -> bool:

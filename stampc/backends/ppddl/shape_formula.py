@@ -12,8 +12,8 @@ from typing import Callable
 
 from stampc.backends.ppddl.reader import SList, Tok
 from stampc.backends.ppddl.shape_base import (
-    FOND_WORD, MAX_NESTING, UNSUPPORTED_WORDS, Node, ShapeBase, head, is_name, is_number, is_op,
-    is_var,
+    FOND_WORD, MAX_NESTING, TERM_START, UNSUPPORTED_WORDS, Node, ShapeBase, head, is_name,
+    is_number, is_op, is_var,
 )
 
 _GD = "a formula: '(' or a name"
@@ -84,7 +84,7 @@ class FormulaShaper(ShapeBase):
         """``(name term*)``: the name word then term words (names or variables)."""
         items = sl.items
         for x in items[1:]:
-            if not (is_name(x) or is_var(x)):
+            if type(x) is not Tok or x.text[0] not in TERM_START:
                 self.fail(x, _TERM)
         return Node("atom", items, sl.start, sl.end)
 
