@@ -152,16 +152,20 @@ class RuleRunner:
 
     def _join(self, kb: FactBase, steps: tuple[_Step, ...], k: int, env: Env,
               emit: Callable[[Env], None]) -> None:
+        # Fully bound steps are membership tests: a loop, not recursion, so bodies with
+        # thousands of literals (10,000-conjunct preconditions) stay within the stack.
+        while k < len(steps) and steps[k].full:
+            step = steps[k]
+            key = tuple(env[n] if v else n for v, n in step.key_terms)
+            if key not in kb.relation(step.pattern.rel) or \
+                    not all(self.check(f, env) for f in step.filters):
+                return
+            k += 1
         if k == len(steps):
             emit(env)
             return
         step = steps[k]
         key = tuple(env[n] if v else n for v, n in step.key_terms)
-        if step.full:
-            if key in kb.relation(step.pattern.rel) and \
-                    all(self.check(f, env) for f in step.filters):
-                self._join(kb, steps, k + 1, env, emit)
-            return
         candidates = kb.lookup(step.pattern.rel, step.bound, key) if step.bound \
             else list(kb.relation(step.pattern.rel))
         for tup in candidates:
