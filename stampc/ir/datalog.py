@@ -67,11 +67,20 @@ def _plan(rule: Rule, anchor: int | None) -> tuple[tuple[_Step, ...], tuple[Filt
         order.append(anchor)
         remaining.remove(anchor)
         bound |= {n for v, n in rule.body[anchor].terms if v}
+    def score(i: int) -> tuple:
+        terms = rule.body[i].terms
+        nbound = sum(1 for v, n in terms if not v or n in bound)
+        return (nbound == len(terms), nbound, not rule.body[i].rel.startswith("@type"), -i)
+
     while remaining:
-        def score(i: int) -> tuple:
-            terms = rule.body[i].terms
-            nbound = sum(1 for v, n in terms if not v or n in bound)
-            return (nbound == len(terms), nbound, not rule.body[i].rel.startswith("@type"), -i)
+        # Fully bound atoms bind nothing: take them all at once, in the greedy order,
+        # so bodies with thousands of ground literals plan in O(n log n), not O(n^2).
+        full = sorted((i for i in remaining if score(i)[0]), key=score, reverse=True)
+        if full:
+            order.extend(full)
+            taken = set(full)
+            remaining = [i for i in remaining if i not in taken]
+            continue
         best = max(remaining, key=score)
         remaining.remove(best)
         order.append(best)
