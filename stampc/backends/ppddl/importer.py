@@ -95,16 +95,21 @@ def _build(definitions: list[_Definition], problem_name: str | None, main_file: 
     with no_gc_pauses():
         lowered = lower_problem(pcx, problem.tree, domain)
     _raise_if_errors(pcx)
-    domain = _with_problem_predicates(domain, pcx)
+    domain = _with_problem_declarations(domain, pcx)
     return Model(domain, lowered, diagnostics=tuple(sorted(cx.diags + pcx.diags, key=sort_key)))
 
 
-def _with_problem_predicates(domain: Domain, pcx: Lowering) -> Domain:
-    """Predicates --lenient declared while lowering the problem join the domain (static:
-    no action changes them), as mini-gpt adds them to its domain."""
+def _with_problem_declarations(domain: Domain, pcx: Lowering) -> Domain:
+    """What --lenient learnt from the problem joins the domain: predicates first used
+    there (static: no action changes them), as mini-gpt adds them to its domain, and the
+    declared types of problem objects the domain used as constants."""
+    if not pcx.lenient:
+        return domain
     known = {p.name for p in domain.predicates}
     extra = tuple(replace(p, static=True) for p in pcx.predicates.values() if p.name not in known)
-    return replace(domain, predicates=domain.predicates + extra) if extra else domain
+    constants = tuple(replace(c, type=pcx.objects[c.name].type)
+                      if c.name in pcx.implicit_constants else c for c in domain.constants)
+    return replace(domain, predicates=domain.predicates + extra, constants=constants)
 
 
 def _raise_if_errors(cx: Lowering) -> None:

@@ -128,7 +128,9 @@ def declare_objects(cx: Lowering, section: Node, what: str) -> list[Object]:
         if isinstance(spec, Tok):
             cx.check_type(spec)
         if name in cx.implicit_constants and not cx.in_domain:
-            continue  # --lenient already made it a constant (P202), as mini-gpt does
+            # --lenient made it a constant (P202), as mini-gpt does; the declared type wins
+            cx.objects[name] = replace(cx.objects[name], type=type_name)
+            continue
         if name in cx.objects:
             cx.err(codes.DUPLICATE, f"{what} '{name}' declared twice", tok)
             continue
