@@ -40,6 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="simulate N runs of the policy (seeded by --seed)")
     parser.add_argument("--max-steps", type=int, default=1000,
                         help="step cap per simulated run")
+    from stampc.commands.common import add_import_options
+    add_import_options(parser)
 
 
 def _report(args, solution, sim, parse_ground_s: float, total_s: float, cpu_s: float) -> dict:
@@ -90,7 +92,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"error: {d.message}" + (f" ({d.hint})" if d.hint else ""), file=sys.stderr)
         return 2
     try:
-        model = load_ground_model(args.files)
+        model = load_ground_model(args.files, lenient=args.lenient,
+                                  conflicting_effects=args.conflicting_effects)
     except SystemExit as exc:
         return int(exc.code or 0)
     parse_ground_s = time.perf_counter() - start

@@ -13,12 +13,12 @@ from stampc.ir.lifted import Model
 PPDDL_SUFFIXES = (".pddl", ".ppddl")
 
 
-def load_lifted(paths: Sequence[Path]) -> Model:
+def load_lifted(paths: Sequence[Path], lenient: bool = False) -> Model:
     """``.pddl``: the PPDDL importer (a problem-only file finds ``domain.pddl`` beside
-    it); anything else: the stamp front end and lowering."""
+    it; ``lenient``: see docs/ppddl.md); anything else: the stamp front end and lowering."""
     if paths[0].suffix.lower() in PPDDL_SUFFIXES:
         from stampc.backends.ppddl.importer import import_ppddl
-        return import_ppddl(paths[0], paths[1] if len(paths) > 1 else None)
+        return import_ppddl(paths[0], paths[1] if len(paths) > 1 else None, lenient=lenient)
     from stampc.ir.lower import lower
     from stampc.semantics import api
     if len(paths) == 1:
@@ -26,9 +26,11 @@ def load_lifted(paths: Sequence[Path]) -> Model:
     return lower(api.load_together(list(paths)))
 
 
-def load_ground_model(paths: Sequence[str | Path]) -> GroundModel:
-    """Import or compile, then ground. On bad input print the located diagnostics and exit
-    with status 1; on missing/unreadable files or a wrong file count exit with status 2."""
+def load_ground_model(paths: Sequence[str | Path], *, lenient: bool = False,
+                      conflicting_effects: str = "add-wins") -> GroundModel:
+    """Import or compile, then ground, printing warnings. On bad input print the located
+    diagnostics and exit with status 1; on missing/unreadable files or a wrong file count
+    exit with status 2. ``lenient`` / ``conflicting_effects``: see ``stampc.api``."""
     files = [Path(p) for p in paths]
     if not 1 <= len(files) <= 2:
         print(f"error: expected DOMAIN [PROBLEM] or one file, got {len(files)} files",
@@ -40,7 +42,8 @@ def load_ground_model(paths: Sequence[str | Path]) -> GroundModel:
             raise SystemExit(2)
     from stampc.ir.ground import ground
     try:
-        return ground(load_lifted(files))
+        lifted = load_lifted(files, lenient)
+        grounded = ground(lifted, conflicting_effects=conflicting_effects)
     except StampcError as exc:
         sources = SourceCache()
         diags = sorted(exc.diagnostics, key=sort_key)
@@ -51,3 +54,7 @@ def load_ground_model(paths: Sequence[str | Path]) -> GroundModel:
     except OSError as exc:
         print(f"error: {exc}", file=sys.stderr)
         raise SystemExit(2) from None
+    sources = SourceCache()
+    for d in sorted(lifted.diagnostics + grounded.diagnostics, key=sort_key):
+        print(render_human(d, sources), file=sys.stderr)
+    return grounded
