@@ -125,3 +125,15 @@ def test_oneof_is_its_own_code_saying_fond_is_not_supported(effect):
     assert len(diags) == 1 and d.code == "P109"
     assert (d.span.line, d.span.col) == _at(text, "oneof")
     assert "FOND" in d.message and "probabilistic" in d.hint
+
+
+def test_emitting_a_lenient_import_gives_a_file_strict_import_reads():
+    from stampc.backends.ppddl import emit_ppddl
+
+    model = import_ppddl_text(DOMAIN + PROBLEM, "l.pddl", lenient=True)
+    domain_text, problem_text = emit_ppddl(model)
+    again = import_ppddl_text(domain_text + problem_text, "again.pddl")  # not lenient
+    assert again.diagnostics == () and again.problem == model.problem
+    assert again.domain.predicates == model.domain.predicates
+    assert again.domain.constants == model.domain.constants
+    assert again.domain.actions == model.domain.actions
