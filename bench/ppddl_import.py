@@ -2,7 +2,7 @@
 
 Usage: ``python bench/ppddl_import.py [--repeat R] [--sizes 1000,10000,70000]``.
 Generates a graph problem with N objects and 4N ``(edge a b)`` init facts (N = 70,000
-is a 6.9 MB file), then the largest files of ``../shared/benchmarks/ppddl`` if present.
+is a 6.8 MB file), then the largest files of ``../shared/benchmarks/ppddl`` if present.
 Prints, per input, bytes, tokens (words and parentheses), the best of R wall-clock and
 CPU times of ``import_ppddl`` (read + shape + lower to the lifted IR) and tokens per
 second on both clocks. Target (issue 10): >= 100k tokens/s. A cost that grows faster
