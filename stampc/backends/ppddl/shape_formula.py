@@ -137,9 +137,8 @@ class FormulaShaper(ShapeBase):
     def _effect_atom(self, x) -> Node:
         if isinstance(x, Tok) and is_name(x):
             return Node("bare_atom", [x], x.start, x.end)
-        if isinstance(x, SList) and x.items and is_name(x.items[0]) and head(x) not in (
-                "and", "not", "when", "forall", "probabilistic"):
-            return self.atom(x)
+        if isinstance(x, SList) and x.items and is_name(x.items[0]):
+            return self.atom(x)  # any name, as in the grammar: (not (and)) names a predicate
         self.fail(x.items[0] if isinstance(x, SList) and x.items else x, "an atom")
 
     def _probabilistic(self, x: SList, depth: int) -> Node:
