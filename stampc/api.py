@@ -35,28 +35,38 @@ def compile(domain: str | Path, problem: str | Path | None = None) -> Model:  # 
     return lower(load_together(paths))
 
 
-def import_ppddl(path: str | Path, problem: str | Path | None = None) -> Model:
-    """Import a PPDDL domain/problem (one file, or domain + problem files)."""
+def import_ppddl(path: str | Path, problem: str | Path | None = None, *,
+                 lenient: bool = False) -> Model:
+    """Import a PPDDL domain/problem (one file, or domain + problem files).
+
+    ``lenient=True`` accepts what mdp-lib's mini-gpt parser accepts (undeclared
+    predicates, problem objects in the domain, repeated declaration variables, no goal)
+    with warnings in ``Model.diagnostics`` (docs/ppddl.md).
+    """
     from stampc.backends.ppddl.importer import import_ppddl as _import
 
     paths = _paths([path] + ([problem] if problem is not None else []))
-    return _import(paths[0], paths[1] if len(paths) > 1 else None)
+    return _import(paths[0], paths[1] if len(paths) > 1 else None, lenient=lenient)
 
 
-def load_model(files: Sequence[str | Path]) -> Model:
-    """Dispatch on the file suffix: ``.pddl``/``.ppddl`` import, anything else compiles."""
+def load_model(files: Sequence[str | Path], *, lenient: bool = False) -> Model:
+    """Dispatch on the file suffix: ``.pddl``/``.ppddl`` import, anything else compiles.
+    ``lenient`` applies to PPDDL input (see :func:`import_ppddl`)."""
     paths = _paths(files)
     if not paths or len(paths) > 2:
         raise StampcError([error("E001", f"expected 1 or 2 input files, got {len(paths)}",
                                  Span.point("<command line>"))])
     if paths[0].suffix.lower() in (".pddl", ".ppddl"):
-        return import_ppddl(*paths)
+        return import_ppddl(*paths, lenient=lenient)
     return compile(*paths)
 
 
-def ground(model: Model):
+def ground(model: Model, *, conflicting_effects: str = "add-wins"):
+    """The grounded model. ``conflicting_effects`` says which wins when one outcome adds
+    and deletes the same fact: ``"add-wins"`` (PDDL, MDPSim) or ``"delete-wins"``
+    (mdp-lib's mini-gpt); either way a G203 warning names the rule applied."""
     from stampc.ir.ground import ground as _ground
-    return _ground(model)
+    return _ground(model, conflicting_effects=conflicting_effects)
 
 
 def solve(ground_model, options=None, **kwargs):

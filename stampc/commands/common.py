@@ -139,3 +139,22 @@ def parse_scene_args(pairs: list[str]) -> dict[str, object]:
         except (ValueError, SyntaxError):
             out[key] = raw
     return out
+
+
+def add_import_options(parser: argparse.ArgumentParser) -> None:
+    """Options of PPDDL import and grounding shared by ``compile`` and ``solve``."""
+    parser.add_argument("--lenient", action="store_true",
+                        help="PPDDL: accept what mdp-lib's mini-gpt accepts (undeclared "
+                             "predicates, problem objects in the domain, repeated declaration "
+                             "variables, no goal) with warnings")
+    parser.add_argument("--conflicting-effects", choices=("add-wins", "delete-wins"),
+                        default="add-wins",
+                        help="when one outcome adds and deletes the same fact: add-wins "
+                             "(PDDL, MDPSim; default) or delete-wins (mdp-lib's mini-gpt)")
+
+
+def print_warnings(diags) -> None:
+    """Warnings of a successful run, located, on standard error."""
+    sources = SourceCache()
+    for d in sorted(diags, key=sort_key):
+        print(render_human(d, sources), file=sys.stderr)

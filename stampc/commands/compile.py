@@ -11,7 +11,8 @@ import sys
 import time
 from pathlib import Path
 
-from stampc.commands.common import add_input_arguments, fail_with, reports_errors
+from stampc.commands.common import (add_import_options, add_input_arguments, fail_with,
+                                    print_warnings, reports_errors)
 from stampc.diagnostics import StampcError
 
 HELP = "compile .stamp (or import .pddl) to the versioned JSON IR or to PPDDL"
@@ -24,6 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="for --target ir: which IR level(s) to write (default both)")
     parser.add_argument("-o", "--output", metavar="DIR",
                         help="write files here (default: print to standard output)")
+    add_import_options(parser)
 
 
 @reports_errors("compile")
@@ -33,7 +35,8 @@ def run(args: argparse.Namespace) -> int:
 
     started = time.perf_counter()
     try:
-        model = api.load_model(args.files)
+        model = api.load_model(args.files, lenient=args.lenient)
+        print_warnings(model.diagnostics)
         outputs: dict[str, str] = {}
         if args.target == "ppddl":
             domain_text, problem_text = api.to_ppddl(model)
@@ -43,7 +46,8 @@ def run(args: argparse.Namespace) -> int:
             if args.level in ("lifted", "both"):
                 outputs["lifted.json"] = json.dumps(lifted_to_json(model), indent=1)
             if args.level in ("grounded", "both"):
-                gm = api.ground(model)
+                gm = api.ground(model, conflicting_effects=args.conflicting_effects)
+                print_warnings(gm.diagnostics)
                 outputs["grounded.json"] = json.dumps(grounded_to_json(gm), indent=1)
                 print(f"grounded: {len(gm.facts)} facts, {len(gm.actions)} actions",
                       file=sys.stderr)

@@ -9,8 +9,9 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
-from stampc.commands.common import (EXIT_DONE, EXIT_STOPPED_SHORT, count, heuristic_weight,
-                                    positive_float, positive_int, reports_errors)
+from stampc.commands.common import (EXIT_DONE, EXIT_STOPPED_SHORT, add_import_options, count,
+                                    heuristic_weight, positive_float, positive_int,
+                                    print_warnings, reports_errors)
 from stampc.diagnostics import StampcError
 
 HELP = "solve the abstract SSP (LAO*, LRTDP or VI) and write the policy"
@@ -45,6 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="simulate N runs of the policy (seeded by --seed)")
     parser.add_argument("--max-steps", type=positive_int, default=1000,
                         help="step cap per simulated run")
+    add_import_options(parser)
 
 
 def _report(args, solution, sim, parse_ground_s: float, total_s: float, cpu_s: float) -> dict:
@@ -98,7 +100,10 @@ def run(args: argparse.Namespace) -> int:
               f"{len(args.files)} files", file=sys.stderr)
         return 2
     check_input_files([existing_file(Path(f)) for f in args.files])  # I/O: exit 2, I00x: 1
-    model = api.ground(api.load_model(args.files))  # StampcError: exit 1 (reports_errors)
+    # StampcError: exit 1 (reports_errors); warnings (lenient import, grounding) on stderr
+    lifted = api.load_model(args.files, lenient=args.lenient)
+    model = api.ground(lifted, conflicting_effects=args.conflicting_effects)
+    print_warnings(lifted.diagnostics + model.diagnostics)
     parse_ground_s = time.perf_counter() - start
     solution = solve(model, options)
     total_s = time.perf_counter() - start

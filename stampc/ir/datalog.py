@@ -67,11 +67,20 @@ def _plan(rule: Rule, anchor: int | None) -> tuple[tuple[_Step, ...], tuple[Filt
         order.append(anchor)
         remaining.remove(anchor)
         bound |= {n for v, n in rule.body[anchor].terms if v}
+    def score(i: int) -> tuple:
+        terms = rule.body[i].terms
+        nbound = sum(1 for v, n in terms if not v or n in bound)
+        return (nbound == len(terms), nbound, not rule.body[i].rel.startswith("@type"), -i)
+
     while remaining:
-        def score(i: int) -> tuple:
-            terms = rule.body[i].terms
-            nbound = sum(1 for v, n in terms if not v or n in bound)
-            return (nbound == len(terms), nbound, not rule.body[i].rel.startswith("@type"), -i)
+        # Fully bound atoms bind nothing: take them all at once, in the greedy order,
+        # so bodies with thousands of ground literals plan in O(n log n), not O(n^2).
+        full = sorted((i for i in remaining if score(i)[0]), key=score, reverse=True)
+        if full:
+            order.extend(full)
+            taken = set(full)
+            remaining = [i for i in remaining if i not in taken]
+            continue
         best = max(remaining, key=score)
         remaining.remove(best)
         order.append(best)
@@ -152,16 +161,20 @@ class RuleRunner:
 
     def _join(self, kb: FactBase, steps: tuple[_Step, ...], k: int, env: Env,
               emit: Callable[[Env], None]) -> None:
+        # Fully bound steps are membership tests: a loop, not recursion, so bodies with
+        # thousands of literals (10,000-conjunct preconditions) stay within the stack.
+        while k < len(steps) and steps[k].full:
+            step = steps[k]
+            key = tuple(env[n] if v else n for v, n in step.key_terms)
+            if key not in kb.relation(step.pattern.rel) or \
+                    not all(self.check(f, env) for f in step.filters):
+                return
+            k += 1
         if k == len(steps):
             emit(env)
             return
         step = steps[k]
         key = tuple(env[n] if v else n for v, n in step.key_terms)
-        if step.full:
-            if key in kb.relation(step.pattern.rel) and \
-                    all(self.check(f, env) for f in step.filters):
-                self._join(kb, steps, k + 1, env, emit)
-            return
         candidates = kb.lookup(step.pattern.rel, step.bound, key) if step.bound \
             else list(kb.relation(step.pattern.rel))
         for tup in candidates:

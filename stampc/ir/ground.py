@@ -16,6 +16,8 @@ with Skolem symbols appended in name order. Semantics are documented in docs/ir.
 from __future__ import annotations
 
 from stampc.ir import lifted as L
+from stampc.ir.ground_checks import ADD_WINS, DELETE_WINS, check_rule, effect_conflicts, \
+    grounding_warnings
 from stampc.ir.ground_context import AtomKey, GroundingContext
 from stampc.ir.grounded import GroundAction, GroundAtom, GroundModel
 from stampc.ir.instantiate import ActionInstance, EffectGrounder, instantiate
@@ -29,13 +31,17 @@ __all__ = ["ground", "DEFAULT_MAX_ACTIONS", "DEFAULT_MAX_SYMBOL_DEPTH"]
 
 
 def ground(model: L.Model, *, max_symbol_depth: int = DEFAULT_MAX_SYMBOL_DEPTH,
-           max_actions: int = DEFAULT_MAX_ACTIONS) -> GroundModel:
+           max_actions: int = DEFAULT_MAX_ACTIONS,
+           conflicting_effects: str = ADD_WINS) -> GroundModel:
     """Ground ``model``; raises :class:`stampc.diagnostics.StampcError` (G1xx) on bad input.
 
     ``max_symbol_depth`` bounds how deeply Skolem symbols may be generated from other
     symbols; more than ``max_actions`` reachable action bindings is an error (G114)
     rather than an out-of-memory crash (see :mod:`stampc.ir.reachability`).
+    ``conflicting_effects`` (``add-wins`` or ``delete-wins``) decides a fact one outcome
+    both adds and deletes. Warnings (G201-G203) land in ``GroundModel.diagnostics``.
     """
+    check_rule(conflicting_effects)
     validate_model(model)
     ctx = GroundingContext(model)
     reach = explore(ctx, max_symbol_depth, max_actions)
@@ -53,7 +59,7 @@ def ground(model: L.Model, *, max_symbol_depth: int = DEFAULT_MAX_SYMBOL_DEPTH,
         if not table.missing:
             break
         fluents |= table.missing
-    return _assemble(model, ctx, reach, table, instances, goal)
+    return _assemble(model, ctx, reach, table, instances, goal, conflicting_effects)
 
 
 def _instantiate_all(ctx: GroundingContext, reach: Reachable,
@@ -70,7 +76,7 @@ def _instantiate_all(ctx: GroundingContext, reach: Reachable,
 
 
 def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: FactTable,
-              instances: list[ActionInstance], goal) -> GroundModel:
+              instances: list[ActionInstance], goal, rule: str) -> GroundModel:
     init = 0
     for atom in model.problem.init:
         i = table.index.get((atom.predicate, tuple(t.name for t in atom.args)))
@@ -79,14 +85,21 @@ def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: Fa
     for i, (pred, _) in enumerate(table.facts):
         if pred in ctx.optimistic_true:
             init |= 1 << i  # unknowable facts start at their optimistic value
-    actions = tuple(
-        GroundAction(index=k, name=a.name, args=a.args, precondition=a.precondition,
-                     effect=a.effect, base_cost=a.base_cost, schema=a.schema,
-                     generated=a.generated)
-        for k, a in enumerate(instances))
+    conflicts: dict[int, tuple[GroundAction, int]] = {}
+    actions = []
+    for k, a in enumerate(instances):
+        mask = effect_conflicts(a.effect)
+        action = GroundAction(index=k, name=a.name, args=a.args, precondition=a.precondition,
+                              effect=a.effect, base_cost=a.base_cost, schema=a.schema,
+                              generated=a.generated,
+                              delete_wins=bool(mask) and rule == DELETE_WINS)
+        if mask and a.schema not in conflicts:
+            conflicts[a.schema] = (action, mask)
+        actions.append(action)
+    facts = tuple(GroundAtom(p, args) for p, args in table.facts)
     return GroundModel(
-        facts=tuple(GroundAtom(p, args) for p, args in table.facts),
-        actions=actions,
+        facts=facts,
+        actions=tuple(actions),
         init=init,
         goal=goal,
         objects=ctx.all_objects,
@@ -94,4 +107,5 @@ def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: Fa
         horizon=model.problem.horizon,
         has_costs=ctx.costs.has_costs,
         lifted=model,
+        diagnostics=tuple(grounding_warnings(model, tuple(actions), conflicts, facts, rule)),
     )

@@ -10,7 +10,9 @@ SysAdmin; :func:`outcome_distribution` enumerates them per state on demand, and
 on the state.
 
 Semantics (PPDDL/MDPSim): all conditions are evaluated in the *old* state; deletes are
-applied before adds, so a fact both added and deleted ends up true.
+applied before adds, so a fact both added and deleted ends up true, unless grounding
+with ``conflicting_effects="delete-wins"`` (mini-gpt's rule) set
+``GroundAction.delete_wins`` on the actions where that can happen.
 """
 
 from __future__ import annotations
@@ -161,6 +163,8 @@ class GroundAction:
     schema: int = -1
     #: Generator applications that concretize this action's generated symbols, in order.
     generated: tuple[GroundGeneratorUse, ...] = ()
+    #: A fact one outcome both adds and deletes ends up false (mini-gpt) instead of true.
+    delete_wins: bool = False
     _cache: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
 
     @property
@@ -192,6 +196,8 @@ class GroundModel:
     #: True when the lifted model declares costs/rewards (PPDDL :rewards or stamp costs).
     has_costs: bool = False
     lifted: Model | None = field(default=None, compare=False, hash=False, repr=False)
+    #: Grounding warnings (G201 no actions, G202 all costs 0, G203 conflicting effects).
+    diagnostics: tuple = field(default=(), compare=False, hash=False, repr=False)
     _index: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
 
     def fact_index(self, atom: GroundAtom) -> int:
@@ -246,8 +252,9 @@ def _product(left, right):
 def outcome_distribution(action: GroundAction, state: int) -> tuple[Successor, ...]:
     """Joint outcome distribution of ``action`` in ``state``; identical outcomes merged."""
     merged: dict[tuple[int, int, Fraction, int], Fraction] = {}
+    delete_wins = action.delete_wins
     for p, a, d, c, u in _effect_branches(action.effect, state):
-        key = (a, d & ~a, c, u)
+        key = (a & ~d, d, c, u) if delete_wins else (a, d & ~a, c, u)
         merged[key] = merged.get(key, Fraction(0)) + p
     return tuple(Successor(p, a, d, action.base_cost + c, u)
                  for (a, d, c, u), p in merged.items())

@@ -333,3 +333,5 @@ class Model:
 
     domain: Domain
     problem: Problem
+    #: warnings of the front end that built it (e.g. the PPDDL importer's --lenient)
+    diagnostics: tuple = field(default=(), compare=False)

@@ -168,7 +168,10 @@ class SuccessorCache:
         if compiled is None:
             compiled = self._compiled[action] = compile_effect(
                 self.model.actions[action].effect, self.unit_cost)
-        base = 1.0 if self.unit_cost else float(self.model.actions[action].base_cost)
+        ground = self.model.actions[action]
+        base = 1.0 if self.unit_cost else float(ground.base_cost)
+        if ground.delete_wins:  # mini-gpt's rule for facts an outcome adds and deletes
+            return [(p, (state | a) & ~d, base + c) for p, a, d, c in branches(compiled, state)]
         return [(p, (state & ~d) | a, base + c) for p, a, d, c in branches(compiled, state)]
 
     def _transition(self, state: int, action: int, eliminate: bool) -> Transition | None:

@@ -219,7 +219,9 @@ def test_several_errors_are_all_reported_in_order():
 @settings(max_examples=150, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(min_value=0, max_value=len(DOMAIN + PROBLEM) - 1),
-       st.sampled_from(["", "(", ")", "?", "-", "1/0", " and ", "x", ":effect", "\n;"]))
+       st.sampled_from(["", "(", ")", "?", "-", "1/0", " and ", "x", ":effect", "\n;",
+                        "(not " * 3000, "(and " * 3000, "(and (p) " * 3000 + ")" * 3000,
+                        "(not (p)" + ")" * 3000]))
 def test_mutations_never_raise_bare_exceptions(position, insert):
     """Any corruption of a valid file gives a Model or located StampcError, never a crash."""
     base = DOMAIN + PROBLEM

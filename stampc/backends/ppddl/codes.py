@@ -10,6 +10,8 @@ IO = "P104"                # file cannot be read
 MISSING = "P105"           # no domain / no problem / problem name not found / ambiguous
 DOMAIN_MISMATCH = "P106"   # problem's (:domain X) does not name the domain
 NO_GOAL = "P107"           # problem without (:goal ...)
+TOO_DEEP = "P108"          # formula / effect / expression nested beyond MAX_NESTING
+FOND = "P109"              # (oneof ...): FOND non-determinism is not supported
 UNDEFINED_TYPE = "P110"
 UNDEFINED_PREDICATE = "P111"
 UNDEFINED_OBJECT = "P112"
@@ -23,6 +25,15 @@ PROBABILITY_SUM = "P121"    # outcome probabilities sum above 1
 BAD_NUMBER = "P122"         # e.g. 1/0
 NUMERIC = "P123"            # numeric effect / metric other than reward or total-cost
 
+# Warnings of --lenient (API lenient=True): what mdp-lib's mini-gpt parser accepts.
+IMPLICIT_PREDICATE = "P201"  # predicate used without declaration: declared implicitly
+IMPLICIT_CONSTANT = "P202"   # undeclared name in the domain (a problem object): a constant
+REPEATED_VARIABLE = "P203"   # a variable name repeated in a predicate declaration
+GOAL_FALSE = "P204"          # problem without a goal: the goal is false (as in mini-gpt)
+
+#: Hint added to the errors that --lenient turns into warnings.
+LENIENT_HINT = "--lenient (API: lenient=True) accepts this as mini-gpt does, with a warning"
+
 #: code -> one-line description, used by the docs table test.
 DESCRIPTIONS = {
     SYNTAX: "syntax error; the message lists the expected tokens in words",
@@ -33,6 +44,8 @@ DESCRIPTIONS = {
     MISSING: "no domain, no problem, problem name not found, or several problems and no name",
     DOMAIN_MISMATCH: "the problem's (:domain X) does not name the domain it is read with",
     NO_GOAL: "problem without (:goal ...)",
+    TOO_DEEP: "formula, effect or numeric expression nested more than 100 levels deep",
+    FOND: "FOND non-deterministic (oneof ...) effects are not supported",
     UNDEFINED_TYPE: "undefined type",
     UNDEFINED_PREDICATE: "undefined predicate",
     UNDEFINED_OBJECT: "undefined object or constant",
@@ -45,4 +58,8 @@ DESCRIPTIONS = {
     PROBABILITY_SUM: "outcome probabilities of one probabilistic effect sum above 1",
     BAD_NUMBER: "malformed number (e.g. a zero denominator)",
     NUMERIC: "numeric effect or metric other than reward / total-cost",
+    IMPLICIT_PREDICATE: "warning (--lenient): undeclared predicate declared implicitly",
+    IMPLICIT_CONSTANT: "warning (--lenient): undeclared name in the domain taken as a constant",
+    REPEATED_VARIABLE: "warning (--lenient): variable repeated in a predicate declaration",
+    GOAL_FALSE: "warning (--lenient): problem without a goal; the goal is false",
 }

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from lark import Token, Tree
-
 from stampc.backends.ppddl import codes
 from stampc.backends.ppddl.context import ROOT_TYPE, Lowering, typed_items, typed_params
 from stampc.backends.ppddl.lower_formula import effect, formula
+from stampc.backends.ppddl.reader import Tok
+from stampc.backends.ppddl.shape_base import Node
 from stampc.ir.lifted import (
     NO_EFFECT, TRUE, Action, Domain, EffAnd, EffForall, Effect, Function, Object,
     Predicate, Probabilistic, Type, Lit, Unknown, When,
@@ -38,15 +38,16 @@ DEFAULT_REQUIREMENTS = (":strips",)
 _SECTION_ORDER = ("requirements", "types", "constants", "predicates", "functions", "action")
 
 
-def lower_domain(cx: Lowering, tree: Tree) -> Domain:
+def lower_domain(cx: Lowering, tree: Node) -> Domain:
     name_tok, *items = tree.children
-    by_kind: dict[str, list[Tree]] = {k: [] for k in _SECTION_ORDER}
+    by_kind: dict[str, list[Node]] = {k: [] for k in _SECTION_ORDER}
     for item in items:
         by_kind[item.data].append(item)
     requirements = _requirements(cx, by_kind["requirements"])
     cx.types.setdefault(ROOT_TYPE, Type(ROOT_TYPE))
     for section in by_kind["types"]:
         _types(cx, section)
+    cx._ancestors.clear()  # the hierarchy is final from here on
     for section in by_kind["constants"]:
         declare_objects(cx, section, "constant")
     for section in by_kind["predicates"]:
@@ -69,7 +70,7 @@ def lower_domain(cx: Lowering, tree: Tree) -> Domain:
 
 
 # ----------------------------------------------------------- declarations
-def _requirements(cx: Lowering, sections: list[Tree]) -> tuple[str, ...]:
+def _requirements(cx: Lowering, sections: list[Node]) -> tuple[str, ...]:
     if not sections:
         return DEFAULT_REQUIREMENTS
     flags: list[str] = []
@@ -86,9 +87,9 @@ def _requirements(cx: Lowering, sections: list[Tree]) -> tuple[str, ...]:
     return tuple(flags)
 
 
-def _types(cx: Lowering, section: Tree) -> None:
+def _types(cx: Lowering, section: Node) -> None:
     """Declared types in order; parents used but not declared are added (parent object)."""
-    implicit: dict[str, Token] = {}
+    implicit: dict[str, Tok] = {}
     for tok, parent, spec in typed_items(cx, section.children[0]):
         name = str(tok)
         if name == ROOT_TYPE:
@@ -97,7 +98,7 @@ def _types(cx: Lowering, section: Tree) -> None:
             cx.err(codes.DUPLICATE, f"type '{name}' declared twice", tok)
             continue
         cx.types[name] = Type(name, parent, span=cx.span(tok))
-        if isinstance(spec, Token) and parent != ROOT_TYPE:
+        if isinstance(spec, Tok) and parent != ROOT_TYPE:
             implicit.setdefault(parent, spec)
     for parent, tok in implicit.items():
         if parent not in cx.types:
@@ -119,13 +120,17 @@ def _check_cycles(cx: Lowering) -> None:
             parent = cx.types[parent].parent
 
 
-def declare_objects(cx: Lowering, section: Tree, what: str) -> list[Object]:
+def declare_objects(cx: Lowering, section: Node, what: str) -> list[Object]:
     """Constants (domain) or objects (problem); both live in ``cx.objects``."""
     declared = []
     for tok, type_name, spec in typed_items(cx, section.children[0]):
         name = str(tok)
-        if isinstance(spec, Token):
+        if isinstance(spec, Tok):
             cx.check_type(spec)
+        if name in cx.implicit_constants and not cx.in_domain:
+            # --lenient made it a constant (P202), as mini-gpt does; the declared type wins
+            cx.objects[name] = replace(cx.objects[name], type=type_name)
+            continue
         if name in cx.objects:
             cx.err(codes.DUPLICATE, f"{what} '{name}' declared twice", tok)
             continue
@@ -135,25 +140,25 @@ def declare_objects(cx: Lowering, section: Tree, what: str) -> list[Object]:
     return declared
 
 
-def _predicates(cx: Lowering, section: Tree) -> None:
+def _predicates(cx: Lowering, section: Node) -> None:
     for decl in section.children:
         name_tok, vars_node = decl.children
         name = str(name_tok)
-        params = typed_params(cx, vars_node)
+        params = typed_params(cx, vars_node, declaration=True)
         if name in cx.predicates:
             cx.err(codes.DUPLICATE, f"predicate '{name}' declared twice", name_tok)
             continue
         cx.predicates[name] = Predicate(name, params, span=cx.span(name_tok))
 
 
-def _functions(cx: Lowering, section: Tree) -> None:
+def _functions(cx: Lowering, section: Node) -> None:
     """Static numeric functions; ``(reward)``/``(total-cost)`` are built in, not recorded."""
     for decl in section.children:
         if decl.data != "atom_decl":
             continue  # a "- number" type mark
         name_tok, vars_node = decl.children
         name = str(name_tok)
-        params = typed_params(cx, vars_node)
+        params = typed_params(cx, vars_node, declaration=True)
         if name in ("reward", "total-cost"):
             continue
         if name in cx.functions:
@@ -163,7 +168,7 @@ def _functions(cx: Lowering, section: Tree) -> None:
 
 
 # ---------------------------------------------------------------- actions
-def _actions(cx: Lowering, sections: list[Tree]) -> tuple[Action, ...]:
+def _actions(cx: Lowering, sections: list[Node]) -> tuple[Action, ...]:
     actions: dict[str, Action] = {}
     for node in sections:
         action = _action(cx, node)
@@ -174,9 +179,9 @@ def _actions(cx: Lowering, sections: list[Tree]) -> tuple[Action, ...]:
     return tuple(actions.values())
 
 
-def _action(cx: Lowering, node: Tree) -> Action:
+def _action(cx: Lowering, node: Node) -> Action:
     name_tok, *parts = node.children
-    by_kind: dict[str, list[Tree]] = {"parameters": [], "precondition": [], "effect_part": []}
+    by_kind: dict[str, list[Node]] = {"parameters": [], "precondition": [], "effect_part": []}
     for part in parts:
         by_kind[part.data].append(part)
     for kind, found in by_kind.items():

@@ -9,14 +9,14 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from lark import Token, Tree
-
 from stampc.backends.ppddl import codes
 from stampc.backends.ppddl.context import Lowering, parse_number, typed_params
+from stampc.backends.ppddl.reader import Tok
+from stampc.backends.ppddl.shape_base import Node
 from stampc.ir.lifted import (
     TRUE, And, Atom, BinOp, Const, CostEffect, EffAnd, EffForall, Effect, Equals, Exists,
-    Forall, Formula, FuncTerm, Imply, Lit, Not, Num, NumExpr, Or, Outcome, Probabilistic,
-    Term, Truth, Var, When,
+    Forall, Formula, FuncTerm, Imply, Lit, Not, Num, NumExpr, Object, Or, Outcome, Param,
+    Predicate, Probabilistic, Term, Truth, Var, When,
 )
 
 FALSE = Truth(False)
@@ -29,49 +29,88 @@ TOTAL_COST = "total-cost"
 
 
 # ------------------------------------------------------------------- terms
-def term(cx: Lowering, node: Tree, scope: Scope) -> tuple[Term, str]:
-    """A term and its type (``object`` when unknown)."""
-    tok: Token = node.children[0]
-    if node.data == "var":
-        name = str(tok)[1:]
-        if name not in scope:
-            cx.err(codes.UNDEFINED_VARIABLE, f"undefined variable '{tok}'", tok,
+def term(cx: Lowering, tok: Tok, scope: Scope, expected: str | None = None) -> tuple[Term, str]:
+    """A term and its type (``object`` when unknown); ``expected`` is the type of the
+    parameter it fills, which --lenient gives an implicit constant."""
+    text = tok.text
+    known = cx.const_terms.get(text)
+    if known is not None:
+        return known
+    if text[0] == "?":
+        name = text[1:]
+        kind = scope.get(name)
+        if kind is None:
+            cx.err(codes.UNDEFINED_VARIABLE, f"undefined variable '{text}'", tok,
                    hint="variables must be action parameters or quantified")
             return Var(name), "object"
-        return Var(name), scope[name]
-    name = str(tok)
-    obj = cx.objects.get(name)
+        return Var(name), kind
+    obj = cx.objects.get(text)
     if obj is None:
-        cx.err(codes.UNDEFINED_OBJECT, f"undefined object or constant '{name}'", tok)
-        return Const(name), "object"
-    return Const(name), obj.type
+        return Const(text), _undefined_object(cx, tok, expected)
+    known = cx.const_terms[text] = (Const(text), obj.type)
+    return known
 
 
-def atom(cx: Lowering, node: Tree, scope: Scope) -> Atom:
-    name_tok: Token = node.children[0]
-    name = str(name_tok)
-    typed = [term(cx, child, scope) for child in node.children[1:]]
-    args = tuple(t for t, _ in typed)
+def _undefined_object(cx: Lowering, tok: Tok, expected: str | None) -> str:
+    name = tok.text
+    if cx.lenient and cx.in_domain:
+        kind = expected or "object"
+        cx.objects[name] = Object(name, kind, span=cx.span(tok))
+        cx.implicit_constants.add(name)
+        cx.warn(codes.IMPLICIT_CONSTANT, f"'{name}' is not a declared constant; taken as a "
+                f"constant of type '{kind}' (mini-gpt reads problem objects used in a domain "
+                "this way)", tok)
+        return kind
+    cx.err(codes.UNDEFINED_OBJECT, f"undefined object or constant '{name}'", tok,
+           hint=(f"declare it in (:constants ...), or {codes.LENIENT_HINT}"
+                 if cx.in_domain else None))
+    return "object"
+
+
+def atom(cx: Lowering, node: Node, scope: Scope) -> Atom:
+    """``atom`` / ``bare_atom`` node: the predicate name token, then term tokens."""
+    name_tok, *arg_toks = node.children
+    name = name_tok.text
     pred = cx.predicates.get(name)
     if pred is None:
-        cx.err(codes.UNDEFINED_PREDICATE, f"undefined predicate '{name}'", name_tok)
+        typed = [term(cx, t, scope) for t in arg_toks]
+        args = tuple(t for t, _ in typed)
+        _undefined_predicate(cx, name_tok, [kind for _, kind in typed])
         return Atom(name, args)
-    if len(args) != len(pred.params):
-        cx.err(codes.ARITY, f"predicate '{name}' takes {len(pred.params)} argument"
-               f"{'' if len(pred.params) == 1 else 's'}, got {len(args)}", node)
+    params = pred.params
+    if len(arg_toks) != len(params):
+        args = tuple(term(cx, t, scope)[0] for t in arg_toks)
+        cx.err(codes.ARITY, f"predicate '{name}' takes {len(params)} argument"
+               f"{'' if len(params) == 1 else 's'}, got {len(args)}", node)
         return Atom(name, args)
-    for child, (t, arg_type), param in zip(node.children[1:], typed, pred.params):
-        if not cx.compatible(arg_type, param.type):
+    args = []
+    for tok, param in zip(arg_toks, params):
+        t, arg_type = term(cx, tok, scope, param.type)
+        args.append(t)
+        if arg_type != param.type and not cx.compatible(arg_type, param.type):
             cx.err(codes.TYPE_MISMATCH, f"argument {_term_text(t)} of type '{arg_type}' does "
-                   f"not fit parameter ?{param.name} - {param.type} of '{name}'", child)
-    return Atom(name, args)
+                   f"not fit parameter ?{param.name} - {param.type} of '{name}'", tok)
+    return Atom(name, tuple(args))
+
+
+def _undefined_predicate(cx: Lowering, name_tok: Tok, arg_types: list[str]) -> None:
+    name = name_tok.text
+    if not cx.lenient:
+        cx.err(codes.UNDEFINED_PREDICATE, f"undefined predicate '{name}'", name_tok,
+               hint=f"declare it in (:predicates ...), or {codes.LENIENT_HINT}")
+        return
+    params = tuple(Param(f"x{i}", kind) for i, kind in enumerate(arg_types))
+    cx.predicates[name] = Predicate(name, params, span=cx.span(name_tok))
+    shown = " ".join(f"?{p.name} - {p.type}" for p in params)
+    cx.warn(codes.IMPLICIT_PREDICATE, f"predicate '{name}' is used without declaration; "
+            f"declared implicitly as ({name}{' ' + shown if shown else ''})", name_tok)
 
 
 def _term_text(t: Term) -> str:
     return f"?{t.name}" if isinstance(t, Var) else t.name
 
 
-def _extend(cx: Lowering, scope: Scope, vars_node: Tree):
+def _extend(cx: Lowering, scope: Scope, vars_node: Node):
     params = typed_params(cx, vars_node)
     inner = dict(scope)
     inner.update({p.name: p.type for p in params})
@@ -79,12 +118,10 @@ def _extend(cx: Lowering, scope: Scope, vars_node: Tree):
 
 
 # ---------------------------------------------------------------- formulas
-def formula(cx: Lowering, node: Tree, scope: Scope) -> Formula:
+def formula(cx: Lowering, node: Node, scope: Scope) -> Formula:
     kind = node.data
-    if kind == "atom":
+    if kind in ("atom", "bare_atom"):
         return atom(cx, node, scope)
-    if kind == "bare_atom":
-        return atom(cx, Tree("atom", node.children, node.meta), scope)
     if kind == "gd_true":
         return TRUE
     # Empty (and)/(or) are the constants true/false, so they survive a round trip.
@@ -108,7 +145,7 @@ def formula(cx: Lowering, node: Tree, scope: Scope) -> Formula:
 
 
 # ----------------------------------------------------------------- effects
-def effect(cx: Lowering, node: Tree, scope: Scope) -> Effect:
+def effect(cx: Lowering, node: Node, scope: Scope) -> Effect:
     kind = node.data
     if kind in ("atom", "bare_atom"):
         return Lit(formula(cx, node, scope), True)
@@ -131,7 +168,7 @@ def effect(cx: Lowering, node: Tree, scope: Scope) -> Effect:
     return EffAnd(())
 
 
-def probabilistic(cx: Lowering, node: Tree, scope: Scope) -> Probabilistic:
+def probabilistic(cx: Lowering, node: Node, scope: Scope) -> Probabilistic:
     outcomes = []
     total = Fraction(0)
     for outcome in node.children:
@@ -151,11 +188,11 @@ def _show(value: Fraction) -> str:
     return str(value.numerator) if value.denominator == 1 else f"{value} (= {float(value):g})"
 
 
-def cost_effect(cx: Lowering, node: Tree, scope: Scope) -> CostEffect:
+def cost_effect(cx: Lowering, node: Node, scope: Scope) -> CostEffect:
     """``(decrease (reward) k)`` / ``(increase (total-cost) k)`` cost k; ``(increase
     (reward) k)`` cost -k."""
     fluent_node, amount_node = node.children
-    fluent_tok: Token = fluent_node.children[0]
+    fluent_tok: Tok = fluent_node.children[0]
     fluent = str(fluent_tok)
     amount = num_expr(cx, amount_node, scope)
     increase = node.data == "eff_increase"
@@ -181,13 +218,13 @@ def _negate(amount: NumExpr) -> NumExpr:
     return BinOp("-", Num(Fraction(0)), amount)
 
 
-def num_expr(cx: Lowering, node: Tree, scope: Scope) -> NumExpr:
+def num_expr(cx: Lowering, node: Node, scope: Scope) -> NumExpr:
     if node.data == "num":
         return Num(parse_number(cx, node.children[0]))
     if node.data == "num_binop":
         op_tok, left, right = node.children
         return BinOp(str(op_tok), num_expr(cx, left, scope), num_expr(cx, right, scope))
-    name_tok: Token = node.children[0]
+    name_tok: Tok = node.children[0]
     name = str(name_tok)
     args = tuple(term(cx, c, scope)[0] for c in node.children[1:])
     func = cx.functions.get(name)

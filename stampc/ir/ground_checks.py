@@ -1,0 +1,104 @@
+"""Warnings about a grounded model that is valid but probably not what the author meant.
+
+- G201: grounding left no actions (nothing is applicable from the initial state);
+- G202: every action costs 0 (expected costs are all 0; no plan is preferred);
+- G203: an action may add and delete the same fact in one outcome (IPPC 2006 ``drive``
+  does): the warning names the rule applied, once per action schema.
+
+Conflicting effects are resolved by ``CONFLICT_RULES``: ``add-wins`` is PDDL's and
+MDPSim's rule (deletes first, then adds); ``delete-wins`` is what mdp-lib's mini-gpt
+does. The two give different values on such domains (docs/ir.md).
+"""
+
+from __future__ import annotations
+
+from stampc.diagnostics import Diagnostic, Span, warning
+from stampc.ir import lifted as L
+from stampc.ir.grounded import GEffect, GroundAction, bits
+
+ADD_WINS = "add-wins"
+DELETE_WINS = "delete-wins"
+CONFLICT_RULES = (ADD_WINS, DELETE_WINS)
+_RULE_WORDS = {ADD_WINS: "the add wins (PDDL / MDPSim rule)",
+               DELETE_WINS: "the delete wins (mdp-lib mini-gpt rule)"}
+
+
+def check_rule(rule: str) -> str:
+    if rule not in CONFLICT_RULES:
+        raise ValueError(f"conflicting_effects must be one of {', '.join(CONFLICT_RULES)}, "
+                         f"got {rule!r}")
+    return rule
+
+
+def effect_conflicts(effect: GEffect) -> int:
+    """Facts that some joint outcome of ``effect`` may both add and delete.
+
+    Outcomes of one probabilistic block exclude each other; everything else (the
+    top-level literals, each ``when``, each block) may combine. ``when`` conditions are
+    not compared, so the answer may include conflicts no state triggers ("may").
+    """
+    parts: list[tuple[int, int]] = [(effect.add, effect.delete)]
+    conflicts = effect.add & effect.delete
+    for _, sub in effect.whens:
+        conflicts |= effect_conflicts(sub)
+        parts.append(_reach(sub))
+    for block in effect.blocks:
+        adds = deletes = 0
+        for _, sub in block.outcomes:
+            conflicts |= effect_conflicts(sub)
+            a, d = _reach(sub)
+            adds, deletes = adds | a, deletes | d
+        parts.append((adds, deletes))
+    for i, (adds, _) in enumerate(parts):
+        for j, (_, deletes) in enumerate(parts):
+            if i != j:
+                conflicts |= adds & deletes
+    return conflicts
+
+
+def _reach(effect: GEffect) -> tuple[int, int]:
+    """Every fact ``effect`` may add, and every fact it may delete."""
+    adds, deletes = effect.add, effect.delete
+    for _, sub in effect.whens:
+        a, d = _reach(sub)
+        adds, deletes = adds | a, deletes | d
+    for block in effect.blocks:
+        for _, sub in block.outcomes:
+            a, d = _reach(sub)
+            adds, deletes = adds | a, deletes | d
+    return adds, deletes
+
+
+def _costs_something(effect: GEffect) -> bool:
+    return bool(effect.cost) or any(_costs_something(sub) for _, sub in effect.whens) or any(
+        _costs_something(sub) for block in effect.blocks for _, sub in block.outcomes)
+
+
+def grounding_warnings(model: L.Model, actions: tuple[GroundAction, ...],
+                       conflicts: dict[int, tuple[GroundAction, int]], facts: tuple,
+                       rule: str) -> list[Diagnostic]:
+    """G201/G202 for the whole model, G203 per action schema in ``conflicts`` (schema →
+    first ground action with a conflict and its conflict mask)."""
+    where = model.problem.span or model.domain.span or Span.point("<model>")
+    out: list[Diagnostic] = []
+    if not actions:
+        out.append(warning("G201", "grounding left no actions: no action is applicable in "
+                           "any state reachable from the initial state", where,
+                           hint="check the preconditions against the initial facts and "
+                                "the object types"))
+    elif all(a.base_cost == 0 and not _costs_something(a.effect) for a in actions):
+        out.append(warning("G202", "every action costs 0: every policy has expected cost 0, "
+                           "so solvers prefer no plan over another", model.domain.span or where,
+                           hint="give actions costs ((decrease (reward) k) in PPDDL, `cost` "
+                                "in stamp) or solve with --unit-cost"))
+    for schema, (action, mask) in sorted(conflicts.items()):
+        lifted = model.domain.actions[schema] if 0 <= schema < len(model.domain.actions) else None
+        fact = facts[next(bits(mask))]
+        other = DELETE_WINS if rule == ADD_WINS else ADD_WINS
+        out.append(warning(
+            "G203", f"action '{action.name}' may add and delete the same fact in one outcome "
+            f"(e.g. {fact} in {action.label}); {_RULE_WORDS[rule]}",
+            (lifted.span if lifted is not None else None) or where,
+            hint=f"--conflicting-effects {other} (API: conflicting_effects='{other}') "
+                 "applies the other rule"))
+    return out
