@@ -20,11 +20,10 @@ from __future__ import annotations
 import importlib.util
 import os
 import re
-import stat
 import tempfile
 import zlib
 from pathlib import Path
-from typing import Any, Callable, TypeVar
+from typing import Callable, TypeVar
 
 T = TypeVar("T")
 
@@ -75,19 +74,9 @@ def cache_key(*parts: str) -> str:
     return "\0".join(parts)
 
 
-def _private(folder: Path) -> bool:
-    """Owned by us and writable by nobody else (so its files are ours to trust)."""
-    try:
-        st = folder.stat()
-    except OSError:
-        return False
-    owner_ok = not hasattr(os, "getuid") or st.st_uid == os.getuid()
-    return owner_ok and stat.S_ISDIR(st.st_mode) and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
-
-
-def read_entry(name: str, require_private: bool = False) -> bytes | None:
+def read_entry(name: str) -> bytes | None:
     folder = cache_dir()
-    if folder is None or (require_private and not _private(folder)):
+    if folder is None:
         return None
     try:
         return (folder / name).read_bytes()
@@ -124,13 +113,13 @@ def _split(data: bytes, key: bytes) -> bytes | None:
 
 
 def cached(name: str, key: str, build: Callable[[], T], dump: Callable[[T], bytes],
-           load: Callable[[bytes], T], require_private: bool = False) -> T:
+           load: Callable[[bytes], T]) -> T:
     """``load`` of the stored entry for ``key``, else ``build()`` (stored via ``dump``).
     An entry whose stored key differs, or that ``load`` rejects (any ``Exception``), is
     rebuilt and replaced."""
     raw_key = key.encode("utf-8")
     entry = f"{name}-{zlib.crc32(raw_key):08x}{len(raw_key):06x}"
-    data = read_entry(entry, require_private)
+    data = read_entry(entry)
     payload = _split(data, raw_key) if data is not None else None
     if payload is not None:
         try:
@@ -144,21 +133,3 @@ def cached(name: str, key: str, build: Callable[[], T], dump: Callable[[T], byte
         return value
     write_entry(entry, b"%d\n" % len(raw_key) + raw_key + payload)
     return value
-
-
-def cached_lark(grammar: str, **options: Any):
-    """``lark.Lark(grammar, **options)`` (LALR only), through the cache (pickled with
-    ``Lark.save``; loaded only from a private directory)."""
-    import io
-
-    import lark
-
-    key = cache_key("lark", lark_version(), grammar, repr(sorted(options.items())))
-
-    def dump(parser) -> bytes:
-        buffer = io.BytesIO()
-        parser.save(buffer)
-        return buffer.getvalue()
-
-    return cached("lark", key, lambda: lark.Lark(grammar, **options), dump,
-                  lambda data: lark.Lark.load(io.BytesIO(data)), require_private=True)

@@ -3,12 +3,10 @@ graceful fallback when the cache is corrupt, foreign, shared or unwritable."""
 
 from __future__ import annotations
 
-import os
 
 import pytest
 
 from stampc import grammar_cache
-from stampc.backends.ppddl.parser import grammar_text as ppddl_grammar
 from stampc.syntax import parser
 
 TEXT = "domain d\n"
@@ -76,26 +74,6 @@ def test_no_partial_files_are_left_behind(cache):
     for i in range(3):
         grammar_cache.cached("t", f"k{i}", lambda: "v" * 100_000, str.encode, bytes.decode)
     assert sorted(p.name.startswith(".") for p in cache.iterdir()) == [False] * 3
-
-
-def test_pickled_parsers_are_read_only_from_a_private_directory(cache):
-    grammar_cache.cached_lark(ppddl_grammar(), parser="lalr", lexer="contextual",
-                              propagate_positions=True, maybe_placeholders=False)
-    (entry,) = [p for p in cache.iterdir() if p.name.startswith("lark-")]
-    assert grammar_cache.read_entry(entry.name, require_private=True) is not None
-    os.chmod(cache, 0o777)  # writable by others: its pickles cannot be trusted
-    assert grammar_cache.read_entry(entry.name, require_private=True) is None
-    assert grammar_cache.read_entry(entry.name) is not None  # plain data is still fine
-
-
-def test_cached_lark_parser_equals_a_fresh_one(cache):
-    options = dict(parser="lalr", lexer="contextual", propagate_positions=True,
-                   maybe_placeholders=False)
-    text = "(define (domain d) (:predicates (p)) (:action a :effect (p)))"
-    first = grammar_cache.cached_lark(ppddl_grammar(), **options).parse(text)
-    again = grammar_cache.cached_lark(ppddl_grammar(), **options).parse(text)  # from disk
-    assert first == again
-    assert again.meta.line == 1 and again.meta.column == 1  # positions survive the cache
 
 
 def test_lark_version_is_read_without_importing_lark():
