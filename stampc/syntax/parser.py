@@ -30,7 +30,7 @@ from stampc.diagnostics import Diagnostic, Span, error
 from stampc.grammar_cache import cache_key, cached, file_stamp, lark_version
 from stampc.syntax import ast, layout
 from stampc.syntax.build import Builder
-from stampc.syntax.gcpause import no_gc_pauses
+from stampc.gcpause import no_gc_pauses
 from stampc.syntax.layout import LexError, LexerSpec, tokenize
 from stampc.syntax.words import describe_expected, describe_token, hint_for
 

@@ -14,9 +14,9 @@ ROOT = Path(__file__).resolve().parents[2] / "stampc"
 # Each area and the areas it may import (besides itself). Lower stages never reach up:
 # the IR does not know the API, the solvers do not know input formats, worlds do not
 # know each other.
-BASE = {"diagnostics", "grammar_cache", "lazy", "inputs"}
+BASE = {"diagnostics", "grammar_cache", "lazy", "inputs", "gcpause"}
 ALLOWED = {
-    "diagnostics": set(), "grammar_cache": set(), "lazy": set(), "inputs": {"diagnostics"},
+    "diagnostics": set(), "grammar_cache": set(), "lazy": set(), "inputs": {"diagnostics"}, "gcpause": set(),
     "syntax": BASE,
     "semantics": BASE | {"syntax"},
     "ir": BASE | {"syntax", "semantics"},

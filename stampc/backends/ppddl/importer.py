@@ -21,7 +21,7 @@ from stampc.backends.ppddl.reader import LineIndex
 from stampc.backends.ppddl.shape_base import Node
 from stampc.diagnostics import Span, StampcError, error, has_errors, sort_key
 from stampc.ir.lifted import Domain, Model
-from stampc.syntax.gcpause import no_gc_pauses
+from stampc.gcpause import no_gc_pauses
 
 DOMAIN_FILE = "domain.pddl"
 
