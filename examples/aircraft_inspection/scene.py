@@ -31,7 +31,7 @@ PARTS = {
     "tail": ("rudder", "elevator"),
     "spine": ("antenna",),
 }
-#: where a first flight into a region may end instead (a neighbouring region)
+#: where a flight into a region may end instead (a neighbouring region), probability 0.05
 DRIFTS = {"nose": "spine", "left_wing": "nose", "right_wing": "nose", "tail": "spine",
           "spine": "tail", "station": "nose"}
 SPINE = {"name": "spine", "size": [1.2, 1.0, 0.6], "position": [0.0, 0.0, 2.6]}
@@ -99,7 +99,6 @@ def problem_text(seed: int = 0, variant: str = "mid", battery: float = DEFAULT_B
         "",
         f"init uav_at(drone, {CHARGER})",
         "     full(drone)",
-        f"     calibrated(drone, {CHARGER})",
         f"     charger_in({CHARGER})",
         f"     {VARIANTS[variant]}",
         "     unchecked(c3)",

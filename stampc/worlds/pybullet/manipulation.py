@@ -146,9 +146,13 @@ def placement(ctx: Context, o: str, s: str, r: str | None = None
     if half_x < 0 or half_y < 0:
         return
     yielded, budget = 0, _budget(ctx)
+    reach = ctx.options.get("reach")  # m from the robot's base (skip hopeless IK calls)
+    base = world.base_pose().pos
     for _ in range(int(ctx.options.get("samples", 50))):
         x = surface.position[0] + ctx.rng.uniform(-half_x, half_x)
         y = surface.position[1] + ctx.rng.uniform(-half_y, half_y)
+        if isinstance(reach, (int, float)) and math.dist((x, y), base[:2]) > reach:
+            continue
         if any(math.dist((x, y), pos[:2]) < geom.footprint + r + PLACE_SPACING
                for pos, r in others):
             continue
