@@ -152,7 +152,8 @@ def run_job(job: Job) -> RunRecord:
         stale.unlink(missing_ok=True)  # never read a previous run's result
     cmd = [sys.executable, str(REPO / "bench" / "paper_worker.py"), str(stats_file),
            "refine", str(domain), str(problem), "--world", "pybullet", "--time-limit",
-           str(job.timeout_s), "--seed", str(job.seed), "--quiet", "-o", str(result)]
+           str(job.timeout_s), "--target-coverage", str(SOLVED_COVERAGE), "--seed",
+           str(job.seed), "--quiet", "-o", str(result)]
     t0 = time.perf_counter()
     code, stderr, killed = _run_with_deadline(cmd, job.timeout_s * 1.25 + 60.0)
     process_s = time.perf_counter() - t0

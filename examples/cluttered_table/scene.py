@@ -102,7 +102,7 @@ def problem_text(n: int = 15, seed: int = 0, variant: str = "mid",
     scene for ``domain.stamp`` (random target, mobile base), on ``plane2d`` the shelf
     scene for ``domain_fixed.stamp``."""
     inst = instance(n, seed, variant, world)
-    if world == "plane2d":
+    if world != "pybullet":
         return _fixed_problem(inst)
     scene = build_random(n, seed)
     cans = [o["name"] for o in scene["objects"]]

@@ -117,6 +117,9 @@ def write_coverage_png(result: RefineResult, path: Path, title: str = "") -> Non
     plt.close(fig)
 
 
+SVG_MAX_NODES = 400  # larger policies: policy.dot only (render it with Graphviz)
+
+
 def write_policy_svg(model: GroundModel, graph: PolicyGraph, path: Path) -> None:
     """Draw the policy graph by depth with networkx + matplotlib (no Graphviz needed)."""
     import matplotlib
@@ -157,7 +160,11 @@ def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result:
     policy = policy_json(model, graph, result, initial_values, meta)
     (out_dir / "policy.json").write_text(json.dumps(policy, indent=1, sort_keys=True))
     (out_dir / "policy.dot").write_text(policy_dot(model, graph))
-    write_policy_svg(model, graph, out_dir / "policy.svg")
     write_coverage_csv(result, out_dir / "coverage.csv")
     write_coverage_png(result, out_dir / "coverage.png", str(meta.get("problem", "")))
     (out_dir / "summary.json").write_text(json.dumps(summary_json(result, meta), indent=2))
+    # matplotlib needs minutes for thousands of nodes: large policies get the .dot only
+    if len(graph.reachable()) <= SVG_MAX_NODES:
+        write_policy_svg(model, graph, out_dir / "policy.svg")
+    else:
+        (out_dir / "policy.svg").unlink(missing_ok=True)
