@@ -24,6 +24,7 @@ import importlib
 import json
 import os
 import re
+import resource
 import signal
 import subprocess
 import sys
@@ -63,6 +64,7 @@ class RunRecord:
     coverage: float = 0.0
     goal_probability: float = 0.0
     process_s: float = 0.0  # the whole subprocess (primary time)
+    cpu_s: float = 0.0  # its user + system CPU time (the machine may be loaded)
     engine_s: float = 0.0  # the engine's wall time (summary.json)
     time_to: dict[str, float | None] = field(default_factory=dict)  # engine time
     #: work done: learned facts, UpdateAbstraction rounds, abstract solves, PRG nodes,
@@ -154,13 +156,16 @@ def run_job(job: Job) -> RunRecord:
            "refine", str(domain), str(problem), "--world", "pybullet", "--time-limit",
            str(job.timeout_s), "--target-coverage", str(SOLVED_COVERAGE), "--seed",
            str(job.seed), "--quiet", "-o", str(result)]
-    t0 = time.perf_counter()
+    t0, usage = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     code, stderr, killed = _run_with_deadline(cmd, job.timeout_s * 1.25 + 60.0)
     process_s = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu_s = (after.ru_utime - usage.ru_utime) + (after.ru_stime - usage.ru_stime)
     (out / "stderr.txt").write_text(stderr)
     if killed or not (result / "summary.json").is_file():
         tail = " | ".join(stderr.strip().splitlines()[-3:])
         return RunRecord(**base, status="timeout" if killed else "error", process_s=process_s,
+                         cpu_s=cpu_s,
                          instance=str(problem), detail=f"exit {code}: {tail}"[:300])
     summary = json.loads((result / "summary.json").read_text())
     stats = json.loads(stats_file.read_text()) if stats_file.is_file() else {}
@@ -174,7 +179,7 @@ def run_job(job: Job) -> RunRecord:
         status = "solved" if process_s <= job.timeout_s else "timeout"
     return RunRecord(**base, status=status, coverage=coverage,
                      goal_probability=float(summary["goal_probability"]), process_s=process_s,
-                     engine_s=engine,
+                     cpu_s=cpu_s, engine_s=engine,
                      time_to={k: summary.get("time_to_coverage", {}).get(k) for k in THRESHOLDS},
                      work=work_counts(result, stats), given_up=given_up, instance=str(problem),
                      detail=str(summary.get("stop_reason", "")))
@@ -237,7 +242,7 @@ def main(argv: list[str] | None = None) -> int:
         for rec in pool.map(run_job, jobs):
             records.append(rec)
             print(f"  {rec.cls:16s} seed {rec.seed:3d}: {rec.status:8s} coverage "
-                  f"{rec.coverage:.4f} process {rec.process_s:7.1f} s engine "
+                  f"{rec.coverage:.4f} process {rec.process_s:7.1f} s (cpu {rec.cpu_s:.1f}) engine "
                   f"{rec.engine_s:7.1f} s  {json.dumps(rec.work)}  {rec.detail[:50]}",
                   flush=True)
     out.mkdir(parents=True, exist_ok=True)

@@ -30,7 +30,8 @@ def _rows(records: list[Any], cls: Any) -> list[Any]:
 
 def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
     head = ("| class | runs | solved | goal prob. (median) | median process s | median "
-            "engine s | paper solved | paper avg s | process / paper avg | split |")
+            "process CPU s | median engine s | paper solved | paper avg s | process / paper "
+            "avg | split |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for cls in classes:
         rs = _rows(records, cls)
@@ -47,6 +48,7 @@ def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
         lines.append(
             f"| {cls.name} | {len(rs)} | {len(solved)}/{len(rs)} | "
             f"{_fmt(_median([r.goal_probability for r in rs]), 3)} | {_fmt(med)} | "
+            f"{_fmt(_median([r.cpu_s for r in solved]))} | "
             f"{_fmt(_median([r.engine_s for r in solved]), 2)} | {paper} | "
             f"{_fmt(cls.paper_time_s, 0)} | {share} | {split} |")
     return lines
