@@ -74,7 +74,7 @@ def _classes() -> tuple[ProblemClass, ...]:
                                     ("keva-3towers", "3towers", 12))]
     # --- end of the keva rows
     out.append(ProblemClass("aircraft-2x", "aircraft_inspection", (("parts", 2),), None, None,
-                            note=AIRCRAFT_NOTE + "; twice the parts and suspects"))
+                            note=AIRCRAFT_NOTE + "; twice the parts (18), still 3 suspects"))
     return tuple(out)
 
 

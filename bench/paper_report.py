@@ -92,7 +92,11 @@ def _early(r: Any, mass: str, share: float) -> bool:
 
 
 def table(records: list[Any], classes: Sequence[Any]) -> str:
-    notes = [f"- {c.name}: {c.note}" for c in classes if c.note and _rows(records, c)]
+    by_note: dict[str, list[str]] = {}
+    for c in classes:
+        if c.note and _rows(records, c):
+            by_note.setdefault(c.note, []).append(c.name)
+    notes = [f"- {', '.join(names)}: {note}" for note, names in by_note.items()]
     parts = outcome_table(records, classes) + [
         "", f"Solved: coverage ≥ 0.999 within the timeout and no goal mass given up "
         f"(\"split n/a\": the engine did not report which dead ends it proved). Times are "
