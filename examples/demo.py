@@ -1,4 +1,5 @@
-"""The flagship demo: a Panda picks a target can off a cluttered table (PyBullet + OMPL).
+"""The flagship demo: a mobile Panda picks a target can off a cluttered table (PyBullet +
+OMPL): the paper's scene, cans at random, the robot choosing among base poses around it.
 
     python examples/demo.py                 # 15 cans, seed 0, outputs in out/demo
     python examples/demo.py --n 20 --seed 3 --variant high --out /tmp/demo
@@ -35,8 +36,6 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="stampc flagship demo: the cluttered table")
     parser.add_argument("--n", type=int, default=15, help="number of cans (default 15)")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--blockers", type=int, default=4,
-                        help="cans placed in the target's approach (default 4)")
     parser.add_argument("--variant", choices=("low", "mid", "high"), default="mid",
                         help="crush probability of delicate cans: 0.1 / 0.5 / 0.9")
     parser.add_argument("--time-limit", type=float, default=180.0)
@@ -61,8 +60,6 @@ def main(argv: list[str] | None = None) -> int:
     _step("1b. compile to PPDDL", ["compile", *files, "--target", "ppddl", "-o", str(out / "ppddl")])
     code = _step("2. refine on PyBullet + OMPL (anytime; live coverage bar)",
                  ["refine", *files, "--world", "pybullet", "--seed", str(args.seed),
-                  # four cans around the target's approach: a richer policy to watch
-                  "--scene-arg", f"n_blockers={args.blockers}",
                   "--time-limit", str(args.time_limit), "-o", str(policy_dir)])
     if not (policy_dir / "policy.json").is_file():
         print("refinement produced no policy", file=sys.stderr)

@@ -31,7 +31,7 @@ PARTS = {
     "tail": ("rudder", "elevator"),
     "spine": ("antenna",),
 }
-#: where a first flight into a region may end instead (a neighbouring region)
+#: where a flight into a region may end instead (a neighbouring region), probability 0.05
 DRIFTS = {"nose": "spine", "left_wing": "nose", "right_wing": "nose", "tail": "spine",
           "spine": "tail", "station": "nose"}
 SPINE = {"name": "spine", "size": [1.2, 1.0, 0.6], "position": [0.0, 0.0, 2.6]}
@@ -47,6 +47,15 @@ class Instance:
     battery: float
     suspects: tuple[str, ...]
     fault: str
+    parts: int = 1  # 2: twice the parts (see parts_of)
+
+
+def parts_of(parts: int = 1) -> dict[str, tuple[str, ...]]:
+    """The parts seen from each region; ``parts=2`` doubles every region's list (a
+    bigger aircraft log: ``<part>_2`` is a second part of the same kind there)."""
+    if parts not in (1, 2):
+        raise ValueError(f"parts must be 1 or 2, got {parts}")
+    return {r: ps + tuple(f"{p}_2" for p in ps) * (parts - 1) for r, ps in PARTS.items()}
 
 
 def regions() -> tuple[str, ...]:
@@ -56,36 +65,39 @@ def regions() -> tuple[str, ...]:
 def relevant_regions(inst: Instance) -> tuple[str, ...]:
     """The charger, the suspects' regions and (closed under) their drift targets: the
     only regions the UAV needs to fly between (keeps the abstract SSP small)."""
-    keep = [CHARGER] + [r for r, ps in PARTS.items() if set(ps) & set(inst.suspects)]
+    keep = [CHARGER] + [r for r, ps in parts_of(inst.parts).items()
+                        if set(ps) & set(inst.suspects)]
     for r in keep:  # grows while iterating: closure under drift
         if DRIFTS[r] not in keep:
             keep.append(DRIFTS[r])
     return tuple(r for r in regions() if r in keep)
 
 
-def instance(seed: int = 0, variant: str = "mid", battery: float = DEFAULT_BATTERY) -> Instance:
+def instance(seed: int = 0, variant: str = "mid", battery: float = DEFAULT_BATTERY,
+             parts: int = 1) -> Instance:
     if variant not in VARIANTS:
         raise ValueError(f"unknown variant {variant!r} (expected one of {', '.join(VARIANTS)})")
     rng = random.Random(f"aircraft:{seed}")
-    parts = sorted(p for ps in PARTS.values() for p in ps)
-    suspects = tuple(sorted(rng.sample(parts, N_SUSPECTS)))
-    return Instance(seed, variant, float(battery), suspects, rng.choice(suspects))
+    names = sorted(p for ps in parts_of(parts).values() for p in ps)
+    suspects = tuple(sorted(rng.sample(names, N_SUSPECTS)))
+    return Instance(seed, variant, float(battery), suspects, rng.choice(suspects), parts)
 
 
 def build(seed: int = 0, *, battery: float = DEFAULT_BATTERY, n_scaffolds: int = 3,
-          variant: str = "mid") -> dict[str, Any]:
+          variant: str = "mid", parts: int = 1) -> dict[str, Any]:
     """The PyBullet scene for instance ``seed`` (``battery`` in metres of flight)."""
     scene = aircraft(seed, battery=battery, n_scaffolds=n_scaffolds)
     scene["regions"] = [*scene["regions"], dict(SPINE)]
-    inst = instance(seed, variant, battery)
+    inst = instance(seed, variant, battery, parts)
     scene["meta"] = {**scene.get("meta", {}), "suspects": list(inst.suspects),
                      "fault": inst.fault, "charger": CHARGER}
     return scene
 
 
 def problem_text(seed: int = 0, variant: str = "mid", battery: float = DEFAULT_BATTERY,
-                 n_scaffolds: int = 3) -> str:
-    inst = instance(seed, variant, battery)
+                 n_scaffolds: int = 3, parts: int = 1) -> str:
+    inst = instance(seed, variant, battery, parts)
+    table = parts_of(parts)
     names = regions()
     lines = [
         f"# Find the faulty part among {', '.join(inst.suspects)}; inspections miss a fault",
@@ -95,18 +107,17 @@ def problem_text(seed: int = 0, variant: str = "mid", battery: float = DEFAULT_B
         "",
         "object drone: uav",
         f"object {', '.join(names)}: region",
-        f"object {', '.join(p for ps in PARTS.values() for p in ps)}: part",
+        f"object {', '.join(p for ps in table.values() for p in ps)}: part",
         "",
         f"init uav_at(drone, {CHARGER})",
         "     full(drone)",
-        f"     calibrated(drone, {CHARGER})",
         f"     charger_in({CHARGER})",
         f"     {VARIANTS[variant]}",
         "     unchecked(c3)",
         "     count_down(c3, c2), count_down(c2, c1), count_down(c1, c0)",
     ]
     lines += [f"     suspect({s})" for s in inst.suspects]
-    lines += [f"     part_in({p}, {r})" for r, ps in PARTS.items() for p in ps]
+    lines += [f"     part_in({p}, {r})" for r, ps in table.items() for p in ps]
     lines += [f"     drifts_to({a}, {b})" for a, b in DRIFTS.items()]
     hubs = relevant_regions(inst)
     lines += [f"     adjacent({a}, {b})" for a in hubs for b in hubs if a != b]
@@ -116,17 +127,19 @@ def problem_text(seed: int = 0, variant: str = "mid", battery: float = DEFAULT_B
         "",
         "horizon 40",
         f'scene builder "examples.aircraft_inspection.scene:build"(seed={seed}, '
-        f'battery={inst.battery:g}, n_scaffolds={n_scaffolds}, variant="{variant}")',
+        f'battery={inst.battery:g}, n_scaffolds={n_scaffolds}, variant="{variant}"'
+        + (f", parts={parts})" if parts != 1 else ")"),
         "",
     ]
     return "\n".join(lines)
 
 
 def write_problem(path: str | Path, seed: int = 0, variant: str = "mid",
-                  battery: float = DEFAULT_BATTERY, n_scaffolds: int = 3) -> Path:
+                  battery: float = DEFAULT_BATTERY, n_scaffolds: int = 3,
+                  parts: int = 1) -> Path:
     """Write ``problem_text(...)`` to ``path`` (use it with this folder's domain.stamp)."""
     out = Path(path)
-    out.write_text(problem_text(seed, variant, battery, n_scaffolds), encoding="utf-8")
+    out.write_text(problem_text(seed, variant, battery, n_scaffolds, parts), encoding="utf-8")
     return out
 
 

@@ -1,11 +1,14 @@
 """Scenes and problem generator for the cluttered-table domain (Shah et al., ATM-MDP).
 
-``build(n, seed)`` is the PyBullet scene (a Panda in front of a table with ``n`` cans of
-radius 0.03 m; ``can0`` is the target, ``can1..can3`` stand between it and the robot),
-``build2d(n, seed)`` the plane2d one (the target sits in a shelf open towards the robot,
-the blockers in its opening). ``problem_text(n, seed, variant)`` writes the matching
-problem: which cans are delicate is drawn from the same seed, and the crush variant
-(``low`` 0.1, ``mid`` 0.5, ``high`` 0.9) picks the ``delicate_*`` predicate used.
+``build_random(n, seed)`` is the paper's PyBullet scene (``domain.stamp``): ``n`` cans
+uniformly at random on the table, a random target, a Panda on a mobile base with
+candidate base poses around the table. ``build(n, seed)`` is the earlier fixed-base
+scene (``domain_fixed.stamp``; ``can0`` is the target, ``can1..can3`` stand between it
+and the robot), ``build2d(n, seed)`` the plane2d one (``domain_fixed.stamp``; the target
+sits in a shelf open towards the robot, the blockers in its opening).
+``problem_text(n, seed, variant, world)`` writes the matching problem: which cans are
+delicate is drawn from the same seed, and the crush variant (``low`` 0.1, ``mid`` 0.5,
+``high`` 0.9) picks the ``delicate_*`` predicate used.
 
     python -m examples.cluttered_table.scene --n 20 --seed 3 --variant high -o p.stamp
 """
@@ -13,17 +16,22 @@ problem: which cans are delicate is drawn from the same seed, and the crush vari
 from __future__ import annotations
 
 import argparse
+import math
 import random
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from stampc.worlds.plane2d.scenes import cluttered as plane2d_cluttered
-from stampc.worlds.pybullet.scenes import cluttered_table
+from stampc.worlds.pybullet.scenes import cluttered_table, cluttered_table_random
 
 VARIANTS = {"low": "1/10", "mid": "1/2", "high": "9/10"}  # crush probability of delicate cans
 DELICATE_FRACTION = 0.2
-TARGET = "can0"
+TARGET = "can0"  # the fixed-base scenes' target (the paper's scene draws its own)
+#: "pybullet": the paper's scene, domain.stamp; "pybullet-fixed" / "plane2d": the fixed-base
+#: scenes with arranged blockers, domain_fixed.stamp
+WORLDS = ("pybullet", "pybullet-fixed", "plane2d")
+NEAR = 0.85  # m: the Panda's reach (its top-grasp reach over the table is ~0.8 m)
 
 
 @dataclass(frozen=True)
@@ -58,6 +66,16 @@ def build(n: int = 15, seed: int = 0, *, n_blockers: int = 3, **kwargs: Any) -> 
     return scene
 
 
+def build_random(n: int = 15, seed: int = 0, **kwargs: Any) -> dict:
+    """The paper's scene (``stampc.worlds.pybullet.scenes.cluttered_table_random``):
+    cans uniformly at random, a random target, a mobile robot with candidate base
+    poses around the table; ``meta`` also lists the delicate cans."""
+    scene = cluttered_table_random(n, seed, **kwargs)
+    scene["meta"]["delicate"] = [c for c in delicate_cans(n, seed)
+                                 if any(o["name"] == c for o in scene["objects"])]
+    return scene
+
+
 def build2d(n: int = 15, seed: int = 0, *, blockers: int = 2, shelf: bool = True,
             **kwargs: Any) -> dict:
     """The plane2d scene (``stampc.worlds.plane2d.scenes.cluttered``), same names."""
@@ -71,8 +89,8 @@ def instance(n: int = 15, seed: int = 0, variant: str = "mid",
     if variant not in VARIANTS:
         raise ValueError(f"unknown crush variant {variant!r}; expected one of "
                          f"{', '.join(VARIANTS)}")
-    if world not in ("pybullet", "plane2d"):
-        raise ValueError(f"unknown world {world!r}; expected pybullet or plane2d")
+    if world not in WORLDS:
+        raise ValueError(f"unknown world {world!r}; expected one of {', '.join(WORLDS)}")
     if n < 2:
         raise ValueError(f"need at least 2 cans, got {n}")
     return Instance(n, seed, variant, world, delicate_cans(n, seed))
@@ -80,15 +98,59 @@ def instance(n: int = 15, seed: int = 0, variant: str = "mid",
 
 def problem_text(n: int = 15, seed: int = 0, variant: str = "mid",
                  world: str = "pybullet") -> str:
-    """The ``.stamp`` problem for ``(n, seed, variant)`` on ``world``'s scene builder."""
+    """The ``.stamp`` problem for ``(n, seed, variant)``: on ``pybullet`` the paper's
+    scene for ``domain.stamp`` (random target, mobile base), on ``plane2d`` the shelf
+    scene for ``domain_fixed.stamp``."""
     inst = instance(n, seed, variant, world)
-    builder = "build" if world == "pybullet" else "build2d"
+    if world != "pybullet":
+        return _fixed_problem(inst)
+    scene = build_random(n, seed)
+    cans = [o["name"] for o in scene["objects"]]
+    target, bases = scene["meta"]["target"], scene["meta"]["bases"]
+    delicate = [c for c in inst.delicate if c in cans]
+    lines = [
+        f"# {len(cans)} cans at random on a {' x '.join(map(str, scene['meta']['table']))} m "
+        f"table; {target} is the target. Delicate cans",
+        f"# crush with probability {VARIANTS[variant]} ({variant}), the others with 1/20. The "
+        f"robot starts at base {scene['robot']['start']}.",
+        f"# Generated by examples/cluttered_table/scene.py (n={n}, seed={seed}, "
+        f"variant={variant}).",
+        f"problem pick_{target}_n{n}_s{seed}_{variant} for cluttered_table",
+        "",
+        f"object can0..can{len(cans) - 1}: can",
+        "object table: surface",
+        f"object {bases[0]}..{bases[-1]}: base",
+        f"object pose_can0..pose_can{len(cans) - 1}: pose",
+        "",
+        "init handempty",
+        f"     base_at({scene['robot']['start']})",
+    ]
+    lines += [f"     delicate_{variant}({c})" for c in delicate]
+    lines += [f"     at({c}, pose_{c})" for c in cans]
+    lines += [f"     near({b}, pose_{c})" for c, b in near_bases(scene)]
+    lines += ["", f"goal holding({target})", "",
+              f'scene builder "examples.cluttered_table.scene:build_random"(n={n}, seed={seed})',
+              ""]
+    return "\n".join(lines)
+
+
+def near_bases(scene: dict) -> list[tuple[str, str]]:
+    """(can, base) pairs with the base within the arm's reach of the can's initial
+    position (plain geometry, a superset of what IK reaches; refinement learns the rest)."""
+    bases = scene["robot"]["bases"]
+    return [(o["name"], b["name"]) for o in scene["objects"] for b in bases
+            if math.dist(o["position"][:2], b["base"][:2]) <= NEAR]
+
+
+def _fixed_problem(inst: Instance) -> str:
+    n, seed, variant = inst.n, inst.seed, inst.variant
+    builder = "build" if inst.world == "pybullet-fixed" else "build2d"
     last = n - 1
     lines = [
         f"# {n} cans on a table; {TARGET} is the target. Delicate cans crush with "
         f"probability {VARIANTS[variant]} ({variant}),",
         "# the others with 1/20. Generated by examples/cluttered_table/scene.py "
-        f"(n={n}, seed={seed}, variant={variant}).",
+        f"(n={n}, seed={seed}, variant={variant}); domain: domain_fixed.stamp.",
         f"problem pick_{TARGET}_n{n}_s{seed}_{variant} for cluttered_table",
         "",
         f"object can0..can{last}: can",
@@ -125,7 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--n", type=int, default=15)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--variant", choices=sorted(VARIANTS), default="mid")
-    parser.add_argument("--world", choices=("pybullet", "plane2d"), default="pybullet")
+    parser.add_argument("--world", choices=WORLDS, default="pybullet")
     parser.add_argument("-o", "--output", help="file to write (default: stdout)")
     args = parser.parse_args(argv)
     if args.output:

@@ -118,7 +118,11 @@ class Concretizer:
             if quick:
                 break
         if best is None:
-            return Failure((), {}, samples)
+            # no sample at all: the ``?`` checks decidable without one (e.g. whether the
+            # robot reaches the object from where it stands) may say why; learn them
+            self.world.restore(concrete_snapshot)
+            ctx = self._context(cache, values, node_uid, attempt, -1)
+            return Failure(tuple(self.violations(ctx, action, values)), {}, samples)
         return Failure(best.violated, best.sigma, samples)
 
     def _assignments(self, action: GroundAction, snapshot: Any, cache: dict,

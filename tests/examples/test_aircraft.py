@@ -1,5 +1,7 @@
-"""Aircraft inspection on PyBullet end to end: refine to coverage 1.0, learn that the
-battery does not cover a leg, replay the refined policy in the concrete world."""
+"""Aircraft inspection on PyBullet end to end: refine (any flight may drift, so the
+policy tree is large: the test stops at 90 % of the mass; bench/paper.py runs to 99.9 %),
+learn that the battery does not cover a leg, replay the refined policy in the concrete
+world."""
 
 from __future__ import annotations
 
@@ -27,19 +29,25 @@ FILES = [EXAMPLE / "domain.stamp", EXAMPLE / "problem.stamp"]
 @pytest.fixture(scope="module")
 def run():
     return stampc.refine_policy(FILES, world="pybullet",
-                                options=RefineOptions(seed=0, time_limit=90))
+                                options=RefineOptions(seed=0, time_limit=120,
+                                                      target_coverage=0.9))
 
 
 def test_checked_in_problem_is_the_generators_output():
     assert FILES[1].read_text() == aircraft_scene.problem_text(seed=0, variant="mid", battery=26.0)
 
 
-def test_refinement_reaches_full_coverage(run):
+def test_refinement_reaches_the_target_coverage(run):
     result = run.result
-    assert result.coverage == pytest.approx(1.0, abs=1e-9)
-    # only two missed passes (1/10 each) end without locating the fault
-    assert result.goal_probability >= 0.98
-    assert result.time_to_coverage["1.0"] is not None
+    assert result.coverage >= 0.9
+    assert result.goal_probability >= 0.88  # refined mass reaching the goal
+    assert result.time_to_coverage["0.9"] is not None
+
+
+def test_any_flight_may_drift(run):
+    policy = run.to_json()
+    flights = [n for n in policy["nodes"] if n.get("action_name") == "fly"]
+    assert flights and all(len(n["outcomes"]) == 2 for n in flights)
 
 
 def test_battery_is_learned_and_the_uav_recharges_first(run):
@@ -71,9 +79,8 @@ def test_every_replayed_run_on_refined_branches_succeeds(run):
                         on_step=on_step)
     finally:
         world.close()
-    assert report.count("unrefined") == 0 and report.count("failure") == 0
-    assert report.count("success") + report.count("dead_end") == 40
-    assert report.count("success") >= 36
+    assert report.count("failure") == 0 and report.count("unrefined") <= 10
+    assert report.count("success") + report.count("dead_end") >= 30
     assert min(batteries) > 0.0  # approved legs never empty the battery
     assert any("charge(drone, station)" in r.actions for r in report.runs)
 
@@ -103,8 +110,7 @@ def test_drift_outcome_ends_in_the_neighbouring_region(world):
     ctx = Context(world=world, rng=random.Random(1), options={"budget": 1})
     (t,) = next(aircraft.flight_path(ctx, "drone", "station", "nose"))
     drifted = ConcreteAction("fly", {"u": "drone", "a": "station", "b": "nose", "t": t},
-                             adds=(("calibrated", ("drone", "nose")),
-                                   ("uav_at", ("drone", "spine"))))
+                             adds=(("uav_at", ("drone", "spine")),))
     aircraft.fly(ctx, drifted)
     assert world.regions["spine"].contains(world.state.uav.pos)
     assert world.state.battery == pytest.approx(12.0 - aerial.path_length(t))

@@ -1,6 +1,7 @@
-"""End-to-end tests of the cluttered-table example (issue #6 / #7): PyBullet + OMPL
-refinement to full coverage, replay, learned obstructions, the plane2d variant and
-determinism. Real worlds, no mocks; ~30 s on 2 cores."""
+"""End-to-end tests of the cluttered-table example: the paper's scene (mobile base,
+random target) refined on PyBullet + OMPL to full coverage and replayed; the fixed-base
+scene with arranged blockers (learned obstructions) on PyBullet and plane2d; determinism.
+Real worlds, no mocks."""
 
 from __future__ import annotations
 
@@ -20,10 +21,12 @@ from stampc.worlds.loading import open_world
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "cluttered_table"
 DOMAIN = EXAMPLE / "domain.stamp"
+FIXED = EXAMPLE / "domain_fixed.stamp"
 
 
-def _refine(problem: Path, world: str, seed: int = 0, limit: float = 90.0):
-    return refine_policy([DOMAIN, problem], world=world,
+def _refine(problem: Path, world: str, seed: int = 0, limit: float = 90.0, domain=None):
+    domain = domain or (DOMAIN if world == "pybullet" else FIXED)
+    return refine_policy([domain, problem], world=world,
                          options=RefineOptions(seed=seed, time_limit=limit))
 
 
@@ -54,6 +57,8 @@ def test_problem_file_matches_generator():
     assert text == ct.problem_text(15, 0, "mid", "pybullet")
     text2d = (EXAMPLE / "problem2d.stamp").read_text(encoding="utf-8")
     assert text2d == ct.problem_text(15, 0, "mid", "plane2d")
+    fixed = (EXAMPLE / "problem_fixed.stamp").read_text(encoding="utf-8")
+    assert fixed == ct.problem_text(15, 0, "mid", "pybullet-fixed")
 
 
 def test_generator_variants_and_bad_input():
@@ -61,7 +66,8 @@ def test_generator_variants_and_bad_input():
     delicate = ct.delicate_cans(20, 3)
     assert len(delicate) == 4
     assert all(f"delicate_low({c})" in low and f"delicate_high({c})" in high for c in delicate)
-    assert 'build"(n=20, seed=3)' in low
+    assert 'build_random"(n=20, seed=3)' in low
+    assert 'scene:build"(n=20, seed=3)' in ct.problem_text(20, 3, "low", "pybullet-fixed")
     with pytest.raises(ValueError, match="crush variant"):
         ct.problem_text(15, 0, "extreme")
     with pytest.raises(ValueError, match="world"):
@@ -86,13 +92,36 @@ def test_pybullet_15_cans_full_coverage_and_replay(pybullet_run):
     assert report.count("unrefined") == 0
     assert report.count("failure") == 0, [r.detail for r in report.runs]
     assert report.count("success") == report.on_refined - report.count("dead_end")
-    # crushes happen (can0's own crush outcome included) and are handled
-    actions = {a.split("(")[0] for r in report.runs for a in r.actions}
-    assert {"pick"} <= actions
+    # the target (can12) is out of reach from the start base b0: the robot drives first
+    actions = [a for r in report.runs for a in r.actions]
+    assert any(a.startswith("move_base(b0, ") for a in actions)
+    picks = [a for a in actions if a.startswith("pick(can12,")]
+    assert picks and all(", b0," not in a for a in picks)
 
 
-def test_learned_obstructions_are_real_blockers(pybullet_run):
+def test_picks_plan_from_the_base_they_name(pybullet_run):
     _, policy = pybullet_run
+    bases = {b["name"]: b["base"] for b in policy["scene"]["robot"]["bases"]}
+    checked = 0
+    for node in policy["nodes"]:
+        if node.get("action_name") == "pick" and node.get("sigma"):
+            base = bases[node["args"]["b"]]
+            for symbol in ("g", "q", "t"):
+                value = node["sigma"][node["args"][symbol]]
+                assert value["robot"] == "robot"
+                assert value["base"]["pos"] == pytest.approx(base)
+            checked += 1
+    assert checked
+
+
+@pytest.fixture(scope="module")
+def fixed_run():
+    problem = EXAMPLE / "problem_fixed.stamp"
+    return _refine(problem, "pybullet", domain=FIXED).to_json()
+
+
+def test_learned_obstructions_are_real_blockers(fixed_run):
+    policy = fixed_run
     learned = _learned(policy)
     assert learned, "the target starts obstructed: refinement must learn a collision"
     blockers = set(policy["scene"]["meta"]["blockers"])
@@ -125,7 +154,8 @@ def test_same_seed_same_policy(pybullet_run):
 
 def test_missing_scene_builder_is_located(tmp_path):
     bad = tmp_path / "problem.stamp"
-    bad.write_text(ct.problem_text(15, 0).replace("scene:build", "scene:nope"), encoding="utf-8")
+    bad.write_text(ct.problem_text(15, 0).replace("scene:build_random", "scene:nope"),
+                   encoding="utf-8")
     with pytest.raises(StampcError) as info:
         _refine(bad, "pybullet")
     diag = info.value.diagnostics[0]

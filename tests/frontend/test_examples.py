@@ -47,13 +47,15 @@ def test_cluttered_table_model() -> None:
     assert not objects["can3"].symbolic
     assert ir.Atom("at", (ir.Const("can7"), ir.Const("pose_can7"))) in m.problem.init
     scene = m.problem.scene
-    assert (scene.kind, scene.target) == ("builder", "examples.cluttered_table.scene:build")
+    assert (scene.kind, scene.target) == ("builder",
+                                          "examples.cluttered_table.scene:build_random")
     assert dict(scene.args)["n"] == 15 and isinstance(dict(scene.args)["seed"], int)
     actions = {a.name: a for a in m.domain.actions}
-    assert set(actions) == {"pick", "place", "discard"}  # the domain's pick/place override the stdlib's
+    # the domain's pick/place override the stdlib's; the robot drives between base poses
+    assert set(actions) == {"move_base", "pick", "place", "discard"}
     pick = actions["pick"]
-    # the domain's clear-first grasp generator, then its motion generator
-    assert pick.generated == (ir.GeneratorUse("clear_grasp", ("o", "p"), ("g", "q")),
+    # the domain's grasp generator from the robot's base, then its motion generator
+    assert pick.generated == (ir.GeneratorUse("base_grasp", ("b", "o", "p"), ("g", "q")),
                               ir.GeneratorUse("motion4", ("q",), ("t",)))
     crush = {o.probability for o in outcomes(pick.effect) if o.label == "crushed"}
     assert {Fraction(1, 20), Fraction(1, 2)} <= crush  # normal cans 0.05; delicate (mid) 0.5

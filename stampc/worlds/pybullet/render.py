@@ -22,6 +22,10 @@ def _camera(world: PyBulletWorld) -> tuple[list[float], float, float, float]:
     """A default camera looking at the scene's centre (target, distance, yaw, pitch)."""
     if world.spec.uav is not None and world.robot < 0:
         return [0.0, 0.0, 1.5], 11.0, 45.0, -35.0
+    if world.spec.surfaces:  # the first surface (the table) in the middle of the frame
+        table = world.spec.surfaces[0]
+        return [table.position[0], table.position[1], table.top + 0.1], \
+            1.3 + 0.6 * max(table.size[:2]), 60.0, -35.0
     return [0.45, 0.0, 0.1], 1.6, 60.0, -35.0
 
 

@@ -144,3 +144,79 @@ def aircraft(seed: int, *, battery: float = 30.0, n_scaffolds: int = 3) -> dict:
                                                "high": [6.0, 6.0, 4.0]}},
         "meta": {"seed": seed},
     }
+
+
+# ------------------------------------------------------------------ the paper's table
+#: the paper's tables (x × y, m): the small one up to 25 cans, the large one for 30+
+SMALL_TABLE, LARGE_TABLE = (0.90, 0.90), (2.235, 0.94)
+BASE_CLEARANCE = 0.30  # m between a table edge and a base pose on that side
+#: on the large table the long sides need three base poses each (the Panda reaches
+#: ~0.8 m): every point of the top is then within 0.8 m of one of them
+LONG_SIDE_XS = (-0.75, 0.0, 0.75)
+LONG_SIDE_CLEARANCE = 0.23
+
+
+def table_bases(size: tuple[float, float]) -> list[dict]:
+    """Candidate base poses around a table centred at the origin, facing its centre
+    line: the middle of each side on the small table; three per long side on the
+    large one (the Panda reaches ~0.8 m where the paper's Fetch reached ~1.1 m, so its
+    4 poses 1 m out become poses 0.23-0.3 m from the edges; see docs)."""
+    sx, sy = size
+    if sx <= 1.0:
+        spots = [(-(sx / 2 + BASE_CLEARANCE), 0.0), (0.0, -(sy / 2 + BASE_CLEARANCE)),
+                 (sx / 2 + BASE_CLEARANCE, 0.0), (0.0, sy / 2 + BASE_CLEARANCE)]
+    else:
+        d = sy / 2 + LONG_SIDE_CLEARANCE
+        spots = [(x, y) for y in (-d, d) for x in LONG_SIDE_XS]
+    out = []
+    for i, (x, y) in enumerate(spots):
+        facing = math.atan2(-y, -x) if abs(y) < 1e-9 else (-math.pi / 2 if y > 0 else math.pi / 2)
+        out.append({"name": f"b{i}", "base": [round(x, 4), round(y, 4), 0.0],
+                    "yaw": round(facing, 6)})
+    return out
+
+
+def cluttered_table_random(n_cans: int, seed: int, *, table: str = "auto",
+                           radius: float = 0.03, height: float = 0.2, gap: float = 0.005,
+                           tries: int = 50, robot: str = "panda") -> dict:
+    """The paper's cluttered table: ``n_cans`` cans (radius 0.03 m, height 0.2 m)
+    uniformly at random on the table top, up to ``tries`` rejections each for overlaps
+    (a can that finds no room is left out: ``meta.dropped``), and a target drawn
+    uniformly among them (``meta.target``). Nothing is arranged around the target.
+
+    ``table``: ``"small"`` (0.90 × 0.90 m), ``"large"`` (2.235 × 0.94 m) or ``"auto"``
+    (large from 30 cans). The robot (named ``robot``) has the candidate base poses of
+    :func:`table_bases` (``b0..``) and starts at one drawn from the seed.
+    """
+    rng = random.Random(f"cluttered-random:{n_cans}:{seed}")
+    size = LARGE_TABLE if table == "large" or (table == "auto" and n_cans >= 30) else SMALL_TABLE
+    top = {"name": "table", "size": [size[0], size[1], 0.05], "position": [0.0, 0.0, -0.025]}
+    margin = radius + 0.01
+    min_dist = 2 * radius + gap
+    placed: list[tuple[float, float]] = []
+    objects, dropped = [], 0
+    for _ in range(n_cans):
+        for _ in range(tries):
+            x = rng.uniform(-size[0] / 2 + margin, size[0] / 2 - margin)
+            y = rng.uniform(-size[1] / 2 + margin, size[1] / 2 - margin)
+            if _free(x, y, placed, min_dist):
+                name = f"can{len(objects)}"
+                objects.append(_can(name, x, y, height, radius, CAN_COLORS[len(objects) % 4]))
+                placed.append((x, y))
+                break
+        else:
+            dropped += 1
+    target = f"can{rng.randrange(len(objects))}" if objects else None
+    for o in objects:
+        if o["name"] == target:
+            o["color"] = [0.95, 0.95, 0.95, 1.0]
+    bases = table_bases(size)
+    return {
+        "robot": {"name": "robot", "model": robot, "bases": bases,
+                  "start": bases[rng.randrange(len(bases))]["name"]},
+        "surfaces": [top],
+        "objects": objects,
+        "poses": {f"pose_{o['name']}": o["name"] for o in objects},
+        "meta": {"target": target, "dropped": dropped, "seed": seed,
+                 "table": list(size), "bases": [b["name"] for b in bases]},
+    }
