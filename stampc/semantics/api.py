@@ -23,6 +23,7 @@ from stampc.syntax import ast
 from stampc.syntax.parser import no_gc_pauses, parse_source
 
 PathOrText = Union[str, Path]
+PARTIAL_AST = frozenset({"E001", "E006"})  # syntax errors and over-deep nesting drop declarations
 
 
 @dataclass(frozen=True)
@@ -171,7 +172,7 @@ def _check_group(resolver: Resolver, dom_source: Source, dom_sec, prob_source: S
         check_problem(problem, info, diags)
         goal = problem.goal
     diags.extend(resolver.diagnostics[before:])
-    if not any(d.code == "E001" for d in diags):  # lints on a partial AST only mislead
+    if not any(d.code in PARTIAL_AST for d in diags):  # lints on a partial AST only mislead
         if problem is not None:
             lint_problem(problem, info, diags)
         lint_domain(info, productions, goal, diags)

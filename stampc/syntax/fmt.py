@@ -300,7 +300,7 @@ def attach_comments(text: str, program: ast.Program) -> tuple[dict[int, list[str
     """Comments above declarations, trailing comments of one-line declarations, and
     comments after the last declaration. Declaration ``k`` starts at the ``k``-th line
     that begins at column 1 (the layout rule of the language)."""
-    lines = text.replace("\r\n", "\n").split("\n")
+    lines = text.removeprefix("\ufeff").replace("\r\n", "\n").split("\n")
     starts = [i + 1 for i, line in enumerate(lines)
               if line and not line[0].isspace() and not line.startswith("#")]
     if len(starts) != len(program.decls):

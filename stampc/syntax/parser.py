@@ -30,11 +30,13 @@ from lark.parsers.lalr_analysis import Shift
 from stampc.diagnostics import Diagnostic, Span, error
 from stampc.syntax import ast
 from stampc.syntax.build import Builder
+from stampc.syntax.depth import limit_nesting
 from stampc.syntax.gcpause import no_gc_pauses
 from stampc.syntax.layout import LexError, LexerSpec, tokenize
 from stampc.syntax.words import describe_expected, describe_token, hint_for
 
 SYNTAX_ERROR = "E001"
+BOM = "\ufeff"  # a UTF-8 byte-order mark, as decoded: dropped, so columns stay right
 
 
 def grammar_text() -> str:
@@ -208,8 +210,8 @@ def _drive(tokens: Iterator[tuple], t: Tables, builder: Builder) -> Any:
                 children = popped if select is None else select(popped)
                 if expand1 and len(children) == 1:
                     push_value(children[0])
-                elif callback is None:
-                    push_value(_Splice(children))
+                elif callback is None:  # reuse a list grown in place (``item*``): no copy
+                    push_value(children if type(children) is _Splice else _Splice(children))
                 else:
                     push_value(callback(*children))
             state = gotos[states[-1]][origin]
@@ -272,13 +274,16 @@ def _parse_chunk(text: str, file: str, offset: int) -> list:
 
 
 def parse_source(text: str, file: str = "<string>") -> tuple[ast.Program, list[Diagnostic]]:
-    """Parse ``text``; returns the (possibly partial) program and syntax diagnostics."""
+    """Parse ``text``; returns the (possibly partial) program and syntax diagnostics.
+    Declarations nested deeper than :data:`depth.MAX_NESTING` are left out (``E006``)."""
     with no_gc_pauses():
-        return _parse_source(text, file)
+        program, diags = _parse_source(text, file)
+        program, too_deep = limit_nesting(program)
+        return program, diags + too_deep
 
 
 def _parse_source(text: str, file: str) -> tuple[ast.Program, list[Diagnostic]]:
-    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    text = text.removeprefix(BOM).replace("\r\n", "\n").replace("\r", "\n")
     try:
         return ast.Program(tuple(_parse_chunk(text, file, 0)), file), []
     except (ParseFailure, LexError):

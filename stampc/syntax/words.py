@@ -81,6 +81,14 @@ def _order(word: str) -> tuple[int, str]:
     return (rank, word)
 
 
+def non_ascii_hint(char: str) -> str:
+    code = f"U+{ord(char):04X}"
+    if char.isspace():
+        return f"{code} is a non-ASCII space; use a plain space"
+    return (f"{code} cannot be part of a name: names use letters of any script, digits and `_` "
+            "(like Python identifiers); operators and punctuation are ASCII")
+
+
 def hint_for(what: object, expected: frozenset[str]) -> str | None:
     """A short help line for common mistakes (``what`` is a token tuple or a character)."""
     if isinstance(what, str):
@@ -88,6 +96,8 @@ def hint_for(what: object, expected: frozenset[str]) -> str | None:
             return "stamp uses indentation and commas instead of brackets and semicolons"
         if what == "\t":
             return "indent with spaces"
+        if not what.isascii():
+            return non_ascii_hint(what)
         return None
     kind, text = what[0], what[1]
     if kind == "_INDENT":
