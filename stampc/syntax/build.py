@@ -194,8 +194,8 @@ class Builder:
     def and_f(self, left, right):
         return conj([left, right])
 
-    def not_f(self, arg):
-        return ast.Not(arg, arg.span)
+    def not_f(self, kw, arg):
+        return ast.Not(arg, merge(self.tspan(kw), arg.span))
 
     def forall_f(self, params, body):
         return ast.Quantified("forall", tuple(params), body, merge(span_of(params), body.span))
