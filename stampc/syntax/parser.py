@@ -31,6 +31,7 @@ from stampc.diagnostics import Diagnostic, Span, error
 from stampc.syntax import ast
 from stampc.syntax.build import Builder
 from stampc.syntax.depth import limit_nesting
+from stampc.syntax.indentation import indentation_error
 from stampc.syntax.gcpause import no_gc_pauses
 from stampc.syntax.layout import LexError, LexerSpec, tokenize
 from stampc.syntax.words import describe_expected, describe_token, hint_for
@@ -316,6 +317,9 @@ def _syntax_diagnostic(exc: Exception, chunk: str, file: str, offset: int) -> Di
                      hint_for(exc.char, frozenset()))
     assert isinstance(exc, ParseFailure)
     tok = exc.token
+    layout = indentation_error(tok, exc.expected, chunk.split("\n"), file, offset)
+    if layout is not None:
+        return layout
     end = _end_span(chunk, file, offset)
     if tok[0] in ("$END", "_DEDENT") or (tok[0] in ("_NL", "_INDENT") and tok[2] > end.line):
         span = end
