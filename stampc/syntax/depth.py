@@ -23,7 +23,7 @@ MAX_NESTING = 200
 TOO_DEEP = "E006"
 
 # children of every node that can nest, by exact type (leaves are absent)
-_CHILDREN = MappingProxyType({
+CHILDREN = MappingProxyType({
     ast.Not: lambda n: (n.arg,),
     ast.And: lambda n: n.args,
     ast.Or: lambda n: n.args,
@@ -50,7 +50,7 @@ def too_deep(decl: ast.Decl, limit: int | None = None) -> ast.Formula | ast.Effe
     """The first node (in source order) nested deeper than ``limit`` (default
     :data:`MAX_NESTING`) levels, or None."""
     limit = MAX_NESTING if limit is None else limit
-    children = _CHILDREN
+    children = CHILDREN
     stack = [(root, 1) for root in reversed(_roots(decl))]
     while stack:
         node, level = stack.pop()
