@@ -121,12 +121,12 @@ def tokenize(text: str, spec: LexerSpec, pattern: re.Pattern, line_offset: int =
 def unicode_name(raw: str, line: int, col: int) -> str:
     """A non-ASCII name, NFKC-normalised as Python normalises identifiers (so both
     spellings of an accented letter are one name); a character that no Python
-    identifier may hold (``x²``) is a :class:`LexError` at its column."""
-    name = unicodedata.normalize("NFKC", raw)
-    if name.isidentifier():
-        return name
+    identifier may hold (``x²``, checked before normalising, as Python does) is a
+    :class:`LexError` at its column."""
+    if raw.isidentifier():
+        return unicodedata.normalize("NFKC", raw)
     for i, ch in enumerate(raw):
-        if not ("a" + ch).isidentifier() and not unicodedata.combining(ch):
+        if not ("a" + ch).isidentifier():
             raise LexError(ch, line, col + i)
     raise LexError(raw[0], line, col)
 
