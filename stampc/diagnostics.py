@@ -20,9 +20,10 @@ class Severity(str, Enum):
     NOTE = "note"
 
 
-@dataclass(frozen=True, order=True)
+@dataclass(frozen=True, order=True, slots=True)
 class Span:
-    """A half-open source region; lines and columns are 1-based."""
+    """A half-open source region; lines and columns are 1-based (``slots``: a large
+    domain has millions of spans, and a ``__dict__`` would double their memory)."""
 
     file: str
     line: int
