@@ -199,22 +199,24 @@ def _drive(tokens: Iterator[tuple], t: Tables, builder: Builder) -> Any:
                 state = step
                 break
             unit, size, origin, select, expand1, callback = reductions[~step]
-            if unit:
-                del states[-1]
+            if unit:  # replace the top state; the value stays as it is
+                state = states[-1] = gotos[states[-2]][origin]
+                if state == end and kind == "$END":
+                    return values[-1]
+                continue
+            if size:
+                popped = values[-size:]
+                del values[-size:]
+                del states[-size:]
             else:
-                if size:
-                    popped = values[-size:]
-                    del values[-size:]
-                    del states[-size:]
-                else:
-                    popped = []
-                children = popped if select is None else select(popped)
-                if expand1 and len(children) == 1:
-                    push_value(children[0])
-                elif callback is None:  # reuse a list grown in place (``item*``): no copy
-                    push_value(children if type(children) is _Splice else _Splice(children))
-                else:
-                    push_value(callback(*children))
+                popped = []
+            children = popped if select is None else select(popped)
+            if expand1 and len(children) == 1:
+                push_value(children[0])
+            elif callback is None:  # reuse a list grown in place (``item*``): no copy
+                push_value(children if type(children) is _Splice else _Splice(children))
+            else:
+                push_value(callback(*children))
             state = gotos[states[-1]][origin]
             push_state(state)
             if state == end and kind == "$END":
