@@ -184,3 +184,11 @@ def test_other_non_ascii_is_e001_naming_the_character(text: str, char: str) -> N
     [diag] = check(source)
     assert diag.code == "E001" and diag.span.line == 4
     assert f"U+{ord(char):04X}" in (diag.hint or "")
+
+
+def test_python_api_raises_stampc_error_not_recursion_error() -> None:
+    from stampc.diagnostics import StampcError
+    from stampc.semantics.api import parse
+    with pytest.raises(StampcError) as info:
+        parse(HEADER + chains(10_000)["not"])
+    assert [d.code for d in info.value.diagnostics] == ["E006"]
