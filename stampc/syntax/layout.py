@@ -46,13 +46,15 @@ class LexerSpec:
         anything unmatched lands in ``ERR`` (so ``finditer`` never skips text)."""
         puncts = sorted(self.punctuation, key=len, reverse=True)
         return re.compile("[ \\t\\f]*(?:" + "|".join([
+            # the most frequent tokens first (no two alternatives start alike, except
+            # NL before COMMENT and FRACTION before NUMBER, which keep their order)
+            rf"(?P<NAME>[^\W\d][\w{COMBINING}]*)",  # letters of any script, digits, `_`
+            "(?P<PUNCT>" + "|".join(re.escape(p) for p in puncts) + ")",
             r"(?P<NL>(?:\n[ \t\f]*|#[^\n]*)*\n[ \t\f]*)",
             r"(?P<COMMENT>#[^\n]*)",
             r'(?P<STRING>"(?:\\.|[^"\\\n])*")',
             r"(?P<FRACTION>\d+/\d+)",
             r"(?P<NUMBER>\d+(?:\.\d+)?)",
-            rf"(?P<NAME>[^\W\d][\w{COMBINING}]*)",  # letters of any script, digits, `_`
-            "(?P<PUNCT>" + "|".join(re.escape(p) for p in puncts) + ")",
             r"(?P<ERR>.)",
         ]) + ")")
 
