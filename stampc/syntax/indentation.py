@@ -33,10 +33,11 @@ def indentation_error(tok: tuple, expected: frozenset[str], lines: list[str], fi
     kind = tok[0]
     index = tok[2] - offset - 1
     code_lines = [i for i, line in enumerate(lines) if _is_code(line)]
-    if kind in ("_INDENT", "_DEDENT") and 0 <= index < len(lines) and _is_code(lines[index]):
+    at_indentation = 0 <= index < len(lines) and tok[3] == len(lines[index]) - len(lines[index].lstrip()) + 1
+    if kind in ("_INDENT", "_DEDENT") and at_indentation and _is_code(lines[index]):
         return _misindented(index, code_lines, lines, file, offset)
-    if "_INDENT" in expected and kind != "_INDENT":
-        return _missing_indent(tok, index, code_lines, lines, file, offset)
+    if expected == {"_INDENT"} and kind != "_INDENT":  # only an indented line could follow
+        return _missing_indent(tok, index, at_indentation, code_lines, lines, file, offset)
     return None
 
 
@@ -68,16 +69,21 @@ def _misindented(index: int, code_lines: list[int], lines: list[str], file: str,
                  f"starts at column {target + 1})")
 
 
-def _missing_indent(tok: tuple, index: int, code_lines: list[int], lines: list[str], file: str,
-                    offset: int) -> Diagnostic:
-    before = [i for i in code_lines if i < index] if 0 <= index < len(lines) else code_lines
+def _missing_indent(tok: tuple, index: int, at_indentation: bool, code_lines: list[int], lines: list[str],
+                    file: str, offset: int) -> Diagnostic:
+    """An indented line was needed before ``tok`` (on line ``index``). Layout tokens at
+    the end of a line stand for what comes after it, so that line is the opener."""
+    layout = tok[0] in ("$END", "_DEDENT", "_NL")
+    last = index + 1 if layout and not at_indentation else index
+    before = [i for i in code_lines if i < last]
     opener = before[-1] if before else 0
-    if tok[0] in ("$END", "_DEDENT", "_NL") or not (0 <= index < len(lines)):
+    if layout or not (0 <= index < len(lines)):
         span = _span(opener, lines, file, offset)
-        head = lines[opener].strip().split()[0] if lines[opener].strip() else "this line"
-        return error(CODE, f"`{head}` needs indented lines after it, and none follow", span,
-                     "write its clauses (or block) on the following lines, indented deeper than it; "
-                     "a line at column 1 starts a new declaration")
+        head = lines[opener].strip()
+        head = head if len(head) <= 40 else head[:37] + "..."
+        return error(CODE, f"`{head}` opens a block, but no indented line follows it", span,
+                     "write the block (a declaration's clauses, outcomes, effects) on the following "
+                     "lines, indented deeper; a line at column 1 starts a new declaration")
     span = _span(index, lines, file, offset)
     return error(CODE, f"this line must be indented deeper than line {opener + offset + 1} above "
                        f"({_indent(lines[opener])} columns), whose block it belongs to", span,
