@@ -101,6 +101,13 @@ def peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
 
 
+def rates(actions: int, megabytes: float, wall: float, cpu: float) -> str:
+    """Throughput by wall time and by CPU time (on a loaded machine only the latter is
+    comparable between sizes)."""
+    return (f"{actions / wall:7.0f} actions/s {megabytes / wall:5.2f} MB/s wall, "
+            f"{actions / cpu:7.0f} actions/s {megabytes / cpu:5.2f} MB/s cpu")
+
+
 def measure(actions: int, shape: str, repeat: int) -> int:
     """One size in this process: parse, then parse + check; prints one block."""
     text = generate(actions, shape)
@@ -108,13 +115,12 @@ def measure(actions: int, shape: str, repeat: int) -> int:
     tables()
     print(f"{actions} {shape} actions, {text.count(chr(10))} lines, {megabytes:.1f} MB")
     wall, cpu = best(lambda: parse_source(text, "bench.stamp"), repeat)
-    print(f"  parse:         {wall:7.2f} s wall {cpu:7.2f} s cpu  {actions / wall:9.0f} actions/s "
-          f"{megabytes / wall:6.2f} MB/s")
+    print(f"  parse:         {wall:7.2f} s wall {cpu:7.2f} s cpu  {rates(actions, megabytes, wall, cpu)}")
     diags: list = []
     wall, cpu = best(lambda: diags.append(check(text)), repeat)
     errors = [d for d in diags[-1] if d.is_error]
-    print(f"  parse + check: {wall:7.2f} s wall {cpu:7.2f} s cpu  {actions / wall:9.0f} actions/s "
-          f"{megabytes / wall:6.2f} MB/s  peak RSS {peak_rss_mb():.0f} MB "
+    print(f"  parse + check: {wall:7.2f} s wall {cpu:7.2f} s cpu  {rates(actions, megabytes, wall, cpu)}  "
+          f"peak RSS {peak_rss_mb():.0f} MB "
           f"({len(diags[-1])} diagnostics, {len(errors)} errors)")
     return 1 if errors else 0
 
