@@ -192,3 +192,12 @@ def test_python_api_raises_stampc_error_not_recursion_error() -> None:
     with pytest.raises(StampcError) as info:
         parse(HEADER + chains(10_000)["not"])
     assert [d.code for d in info.value.diagnostics] == ["E006"]
+
+
+@pytest.mark.parametrize("joiner", ["and", "or"])
+def test_long_flat_chains_are_one_node_and_one_level(joiner: str) -> None:
+    from stampc.syntax.parser import parse_source
+    source = HEADER + action(pre=f" {joiner} ".join(["p(x)"] * 20_000))
+    program, diags = parse_source(source)
+    assert diags == [] and len(program.decls[-1].pre.args) == 20_000
+    assert check(source) == []
