@@ -21,9 +21,10 @@ class Severity(str, Enum):
     NOTE = "note"
 
 
-@dataclass(frozen=True, order=True)
+@dataclass(frozen=True, order=True, slots=True)
 class Span:
-    """A half-open source region; lines and columns are 1-based."""
+    """A half-open source region; lines and columns are 1-based (``slots``: a large
+    domain has millions of spans, and a ``__dict__`` would double their memory)."""
 
     file: str
     line: int
@@ -110,20 +111,24 @@ class SourceCache:
     """Maps file names to their text so renderers can quote source lines."""
 
     texts: dict[str, str] = field(default_factory=dict)
+    _lines: dict[str, list[str]] = field(default_factory=dict, repr=False)
 
     def add(self, file: str, text: str) -> None:
-        self.texts[file] = text
+        self.texts[file] = text.removeprefix("\ufeff")  # a byte-order mark is not a column
+        self._lines.pop(file, None)
 
     def line(self, file: str, lineno: int) -> str | None:
-        text = self.texts.get(file)
-        if text is None:
-            try:
-                with open(file, encoding="utf-8", errors="replace") as fh:
-                    text = fh.read()
-            except OSError:
-                return None
-            self.texts[file] = text
-        lines = text.splitlines()
+        lines = self._lines.get(file)
+        if lines is None:  # split once per file: quoting many diagnostics stays linear
+            text = self.texts.get(file)
+            if text is None:
+                try:
+                    with open(file, encoding="utf-8", errors="replace") as fh:
+                        text = fh.read().removeprefix("\ufeff")
+                except OSError:
+                    return None
+                self.texts[file] = text
+            lines = self._lines[file] = text.splitlines()
         if 1 <= lineno <= len(lines):
             return lines[lineno - 1]
         return None

@@ -23,6 +23,7 @@ from stampc.syntax import ast
 from stampc.syntax.parser import no_gc_pauses, parse_source
 
 PathOrText = Union[str, Path]
+PARTIAL_AST = frozenset({"E001", "E006"})  # syntax errors and over-deep nesting drop declarations
 
 
 @dataclass(frozen=True)
@@ -161,7 +162,6 @@ def _check_group(resolver: Resolver, dom_source: Source, dom_sec, prob_source: S
     info = build_domain(dsrc, diags)
     productions = check_domain(info, diags)
     problem = None
-    goal = None
     if prob_source is not None and prob_sec is not None:
         if prob_source is not dom_source:
             diags.extend(prob_source.diagnostics)
@@ -169,12 +169,11 @@ def _check_group(resolver: Resolver, dom_source: Source, dom_sec, prob_source: S
         problem = build_problem(psrc, info, diags)
         diags.extend(check_problem_domain(problem, info, prob_sec.problem))
         check_problem(problem, info, diags)
-        goal = problem.goal
     diags.extend(resolver.diagnostics[before:])
-    if not any(d.code == "E001" for d in diags):  # lints on a partial AST only mislead
+    if not any(d.code in PARTIAL_AST for d in diags):  # lints on a partial AST only mislead
         if problem is not None:
             lint_problem(problem, info, diags)
-        lint_domain(info, productions, goal, diags)
+        lint_domain(info, productions, problem, diags)
     texts = {s.name: s.text for s in inputs}
     texts.update({s.name: s.text for s in resolver.sources.values()})
     texts[dom_source.name] = dom_source.text

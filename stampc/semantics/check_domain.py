@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from fractions import Fraction
 
 from stampc.diagnostics import Diagnostic, Label
@@ -11,7 +12,8 @@ from stampc.semantics.codes import diag
 from stampc.semantics.generators import Production, infer
 from stampc.semantics.scope import DomainInfo, suggest
 from stampc.semantics.terms import (Ctx, check_args, check_atom, check_formula, check_numexpr,
-                                    check_params, quantified_names)
+                                    check_params, quantified_params)
+from stampc.semantics.scope_hints import binder_hints, effect_hints
 from stampc.syntax import ast
 
 BINDING = re.compile(r"^\.?[A-Za-z_]\w*(\.[A-Za-z_]\w*)*:[A-Za-z_]\w*(\.[A-Za-z_]\w*)*$")
@@ -79,7 +81,8 @@ def _check_generator(gen: ast.GeneratorDecl, base: Ctx) -> None:
 
 def _check_action(action: ast.ActionDecl, base: Ctx, unknowable: frozenset[str]) -> Production:
     info, diags = base.info, base.diags
-    ctx = Ctx(info, diags, base.symbols, "E105", quantified_names(action.pre) | quantified_names(action.eff))
+    bound = quantified_params(action.pre) + quantified_params(action.eff)
+    ctx = Ctx(info, diags, base.symbols, "E105", binder_hints(action, bound))
     env = check_params(action.params, ctx)
     if action.pre is not None:
         check_formula(action.pre, env, ctx)
@@ -137,8 +140,10 @@ def check_effect(e: ast.Effect, env: dict[str, str], ctx: Ctx) -> None:
                                   "a static fact cannot become unknown; drop `static` or the `?`",
                                   (Label(decl.name.span, "declared static here"),)))
     elif isinstance(e, ast.EffAnd):
-        for x in e.effects:
+        for i, x in enumerate(e.effects):
             check_effect(x, env, ctx)
+            if type(x) is ast.EffForall and i + 1 < len(e.effects):  # `forall (..) a, b`: b is outside
+                ctx = replace(ctx, quantified=effect_hints(x, e.effects[i + 1:], ctx.quantified))
     elif isinstance(e, ast.When):
         check_formula(e.condition, env, ctx)
         check_effect(e.effect, env, ctx)

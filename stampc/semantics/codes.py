@@ -15,6 +15,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "E003": (Severity.ERROR, "used module or file not found"),
     "E004": (Severity.ERROR, "invalid number (an integer is required)"),
     "E005": (Severity.ERROR, "invalid object range"),
+    "E006": (Severity.ERROR, "nesting too deep"),
     "E101": (Severity.ERROR, "undefined type"),
     "E102": (Severity.ERROR, "undefined predicate or function"),
     "E103": (Severity.ERROR, "undefined constant or object"),

@@ -12,8 +12,11 @@ from stampc.semantics.terms import quantified_params
 from stampc.syntax import ast
 
 
-def lint_domain(info: DomainInfo, productions: dict[str, Production], goal: ast.Formula | None,
+def lint_domain(info: DomainInfo, productions: dict[str, Production], problem: ProblemInfo | None,
                 diags: list[Diagnostic]) -> None:
+    """Warnings about the domain; ``problem`` (checked with it, if any) counts as a user
+    of types (its objects) and predicates (its goal)."""
+    goal = problem.goal if problem is not None else None
     facts = domain_facts(info)
     used_preds = set(facts.pre_reads) | facts.effects.adds | facts.effects.deletes | set(facts.effects.unknown)
     used_preds |= {a.predicate.name for g in info.generators.values() for a in g.certifies}
@@ -24,7 +27,7 @@ def lint_domain(info: DomainInfo, productions: dict[str, Production], goal: ast.
         if name not in used_preds and info.is_local(decl.name.span):
             diags.append(diag("W401", f"predicate `{name}` is never used", decl.name.span,
                               "remove it, or use it in a precondition, effect or goal"))
-    _lint_types(info, diags)
+    _lint_types(info, problem, diags)
     used_gens = {u.generator for p in productions.values() for u in p.uses}
     for name, gen in info.generators.items():
         if name not in used_gens and info.is_local(gen.name.span):
@@ -48,9 +51,11 @@ def lint_domain(info: DomainInfo, productions: dict[str, Production], goal: ast.
                               ev.predicate.span))
 
 
-def _lint_types(info: DomainInfo, diags: list[Diagnostic]) -> None:
+def _lint_types(info: DomainInfo, problem: ProblemInfo | None, diags: list[Diagnostic]) -> None:
     used: set[str] = {t.parent for t in info.types.values() if t.parent}
     used |= {c.type for c in info.constants.values()}
+    if problem is not None:  # a type only problem objects have is used (by them)
+        used |= {o.type for o in problem.objects.values()}
     params: list[ast.Param] = []
     for d in list(info.predicates.values()) + list(info.functions.values()):
         params.extend(d.params)
@@ -63,7 +68,9 @@ def _lint_types(info: DomainInfo, diags: list[Diagnostic]) -> None:
     used |= {p.type.name for p in params}
     for name, t in info.types.items():
         if name not in used and info.is_local(t.ident.span):
-            diags.append(diag("W402", f"type `{name}` is never used", t.ident.span))
+            diags.append(diag("W402", f"type `{name}` is never used", t.ident.span,
+                              "no parameter, constant, subtype or object has it" if problem is not None else
+                              "no parameter, constant or subtype has it (no problem was checked with the domain)"))
 
 
 def lint_problem(p: ProblemInfo, info: DomainInfo, diags: list[Diagnostic]) -> None:

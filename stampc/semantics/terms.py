@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Mapping
 
 from stampc.diagnostics import Label
 from stampc.semantics.codes import diag
 from stampc.semantics.scope import DomainInfo, suggest, undefined_type
+from stampc.semantics.scope_hints import formula_hints
 from stampc.syntax import ast
 
 Env = Mapping[str, str]  # variable name -> type
@@ -20,14 +21,15 @@ class Ctx:
 
     ``symbols``: constants (and problem objects) by name → type. ``undefined``: the code
     for an unknown name (E105 in domains, E103 in init, E307 in goals). ``quantified``:
-    every name some quantifier of the current declaration binds (for E106).
+    every name some quantifier of the current declaration binds, with the help E106
+    gives where the name is used unbound (see :mod:`scope_hints`).
     """
 
     info: DomainInfo
     diags: list
     symbols: Mapping[str, str]
     undefined: str = "E105"
-    quantified: frozenset[str] = frozenset()
+    quantified: Mapping[str, str] = field(default_factory=dict)
 
 
 def check_params(params: tuple[ast.Param, ...], ctx: Ctx, env: Env | None = None,
@@ -56,7 +58,7 @@ def term_type(ident: ast.Ident, env: Env, ctx: Ctx) -> str | None:
         return ctx.symbols[name]
     if ctx.undefined == "E105" and name in ctx.quantified:
         ctx.diags.append(diag("E106", f"variable `{name}` is used outside the quantifier that binds it",
-                              ident.span, "quantified variables are only visible in the quantifier's body"))
+                              ident.span, ctx.quantified[name]))
         return None
     if ctx.undefined == "E105":
         hint = suggest(name, list(env) + list(ctx.symbols)) or "declare it as a parameter or a constant"
@@ -123,13 +125,20 @@ def check_formula(f: ast.Formula, env: Env, ctx: Ctx) -> None:
     elif isinstance(f, ast.Not):
         check_formula(f.arg, env, ctx)
     elif isinstance(f, (ast.And, ast.Or)):
-        for a in f.args:
-            check_formula(a, env, ctx)
+        _check_siblings(f.args, "and" if isinstance(f, ast.And) else "or", env, ctx)
     elif isinstance(f, ast.Implies):
-        check_formula(f.left, env, ctx)
-        check_formula(f.right, env, ctx)
+        _check_siblings((f.left, f.right), "implies", env, ctx)
     elif isinstance(f, ast.Quantified):
         check_formula(f.body, check_params(f.params, ctx, env, "quantified variable"), ctx)
+
+
+def _check_siblings(parts: tuple[ast.Formula, ...], joiner: str, env: Env, ctx: Ctx) -> None:
+    """Operands in order; after a quantifier, its variables get an E106 hint that
+    suggests the parentheses which would have kept them in scope."""
+    for i, part in enumerate(parts):
+        check_formula(part, env, ctx)
+        if type(part) is ast.Quantified and i + 1 < len(parts) and ctx.undefined == "E105":
+            ctx = replace(ctx, quantified=formula_hints(part, parts[i + 1:], joiner, ctx.quantified))
 
 
 def check_numexpr(e: ast.NumExpr, env: Env, ctx: Ctx) -> None:
@@ -182,6 +191,3 @@ def quantified_params(node: object) -> list[ast.Param]:
     return found
 
 
-def quantified_names(node: object) -> frozenset[str]:
-    """Every variable name bound by a quantifier (formula or effect) inside ``node``."""
-    return frozenset([p.name.name for p in quantified_params(node)])

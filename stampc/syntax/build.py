@@ -187,15 +187,16 @@ class Builder:
     def implies_f(self, left, right):
         return ast.Implies(left, right, merge(left.span, right.span))
 
-    def or_f(self, left, right):
-        args = (left.args if isinstance(left, ast.Or) else (left,)) + (right,)
-        return ast.Or(args, merge(left.span, right.span))
+    def or_f(self, first, *rest):
+        # a parenthesised disjunction in front joins the chain (``(a or b) or c``)
+        args = (first.args if isinstance(first, ast.Or) else (first,)) + rest
+        return ast.Or(args, merge(first.span, rest[-1].span))
 
-    def and_f(self, left, right):
-        return conj([left, right])
+    def and_f(self, *parts):
+        return conj(list(parts))
 
-    def not_f(self, arg):
-        return ast.Not(arg, arg.span)
+    def not_f(self, kw, arg):
+        return ast.Not(arg, merge(self.tspan(kw), arg.span))
 
     def forall_f(self, params, body):
         return ast.Quantified("forall", tuple(params), body, merge(span_of(params), body.span))

@@ -8,6 +8,7 @@ not part of the AST: :func:`format_source` carries them over from the original t
 
 from __future__ import annotations
 
+import bisect
 from fractions import Fraction
 
 from stampc.syntax import ast
@@ -300,7 +301,7 @@ def attach_comments(text: str, program: ast.Program) -> tuple[dict[int, list[str
     """Comments above declarations, trailing comments of one-line declarations, and
     comments after the last declaration. Declaration ``k`` starts at the ``k``-th line
     that begins at column 1 (the layout rule of the language)."""
-    lines = text.replace("\r\n", "\n").split("\n")
+    lines = text.removeprefix("\ufeff").replace("\r\n", "\n").split("\n")
     starts = [i + 1 for i, line in enumerate(lines)
               if line and not line[0].isspace() and not line.startswith("#")]
     if len(starts) != len(program.decls):
@@ -314,8 +315,9 @@ def attach_comments(text: str, program: ast.Program) -> tuple[dict[int, list[str
             continue
         comment = line[col:].rstrip()
         full_line = not line[:col].strip()
-        following = next((k for k, s in enumerate(starts) if s > number), None)
-        current = max((k for k, s in enumerate(starts) if s <= number), default=None)
+        after = bisect.bisect_right(starts, number)  # starts are ascending: no scan per comment
+        following = after if after < len(starts) else None
+        current = after - 1 if after > 0 else None
         if full_line and (col == 0 or current is None):
             if following is None:
                 tail.append(comment)

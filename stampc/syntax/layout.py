@@ -14,12 +14,15 @@ levels closes the deeper level and opens a new one, so hanging alignment such as
 from __future__ import annotations
 
 import re
+import unicodedata
 from typing import Iterator
 from dataclasses import dataclass
 
 Tok = tuple  # (type, text, line, col, end_line, end_col)
 
 NL, INDENT, DEDENT, END = "_NL", "_INDENT", "_DEDENT", "$END"
+# combining marks (accents typed as separate code points) continue a name, as in Python
+COMBINING = "\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f"
 CONTINUES_LINE = frozenset({"COMMA", "AND", "OR", "IMPLIES", "ARROW"})
 
 
@@ -43,13 +46,15 @@ class LexerSpec:
         anything unmatched lands in ``ERR`` (so ``finditer`` never skips text)."""
         puncts = sorted(self.punctuation, key=len, reverse=True)
         return re.compile("[ \\t\\f]*(?:" + "|".join([
+            # the most frequent tokens first (no two alternatives start alike, except
+            # NL before COMMENT and FRACTION before NUMBER, which keep their order)
+            rf"(?P<NAME>[^\W\d][\w{COMBINING}]*)",  # letters of any script, digits, `_`
+            "(?P<PUNCT>" + "|".join(re.escape(p) for p in puncts) + ")",
             r"(?P<NL>(?:\n[ \t\f]*|#[^\n]*)*\n[ \t\f]*)",
             r"(?P<COMMENT>#[^\n]*)",
             r'(?P<STRING>"(?:\\.|[^"\\\n])*")',
             r"(?P<FRACTION>\d+/\d+)",
             r"(?P<NUMBER>\d+(?:\.\d+)?)",
-            r"(?P<NAME>[A-Za-z_][A-Za-z0-9_]*)",
-            "(?P<PUNCT>" + "|".join(re.escape(p) for p in puncts) + ")",
             r"(?P<ERR>.)",
         ]) + ")")
 
@@ -69,6 +74,12 @@ def tokenize(text: str, spec: LexerSpec, pattern: re.Pattern, line_offset: int =
         start = m.start(kind)
         if kind == "NAME":
             value = m.group(kind)
+            if not value.isascii():
+                col = start - line_start + 1
+                name = unicode_name(value, line, col)
+                yield (keywords.get(name, "NAME"), name, line, col, line, col + len(value))
+                prev_type = "NAME"
+                continue
             kind = keywords.get(value, "NAME")
         elif kind == "NL":
             chunk = m.group(kind)
@@ -107,6 +118,19 @@ def tokenize(text: str, spec: LexerSpec, pattern: re.Pattern, line_offset: int =
         levels.pop()
         yield (DEDENT, "", line, col, line, col + 1)
     yield (END, "", line, col, line, col + 1)
+
+
+def unicode_name(raw: str, line: int, col: int) -> str:
+    """A non-ASCII name, NFKC-normalised as Python normalises identifiers (so both
+    spellings of an accented letter are one name); a character that no Python
+    identifier may hold (``x²``, checked before normalising, as Python does) is a
+    :class:`LexError` at its column."""
+    if raw.isidentifier():
+        return unicodedata.normalize("NFKC", raw)
+    for i, ch in enumerate(raw):
+        if not ("a" + ch).isidentifier():
+            raise LexError(ch, line, col + i)
+    raise LexError(raw[0], line, col)
 
 
 def _relevel(levels: list[int], indent: int, line: int, col: int) -> Iterator[Tok]:

@@ -30,11 +30,14 @@ from stampc.diagnostics import Diagnostic, Span, error
 from stampc.grammar_cache import cache_key, cached, file_stamp, lark_version
 from stampc.syntax import ast, layout
 from stampc.syntax.build import Builder
+from stampc.syntax.depth import limit_nesting
+from stampc.syntax.indentation import indentation_error
 from stampc.gcpause import no_gc_pauses
 from stampc.syntax.layout import LexError, LexerSpec, tokenize
 from stampc.syntax.words import describe_expected, describe_token, hint_for
 
 SYNTAX_ERROR = "E001"
+BOM = "\ufeff"  # a UTF-8 byte-order mark, as decoded: dropped, so columns stay right
 
 
 def grammar_text() -> str:
@@ -230,22 +233,24 @@ def _drive(tokens: Iterator[tuple], t: Tables, builder: Builder) -> Any:
                 state = step
                 break
             unit, size, origin, select, expand1, callback = reductions[~step]
-            if unit:
-                del states[-1]
+            if unit:  # replace the top state; the value stays as it is
+                state = states[-1] = gotos[states[-2]][origin]
+                if state == end and kind == "$END":
+                    return values[-1]
+                continue
+            if size:
+                popped = values[-size:]
+                del values[-size:]
+                del states[-size:]
             else:
-                if size:
-                    popped = values[-size:]
-                    del values[-size:]
-                    del states[-size:]
-                else:
-                    popped = []
-                children = popped if select is None else select(popped)
-                if expand1 and len(children) == 1:
-                    push_value(children[0])
-                elif callback is None:
-                    push_value(_Splice(children))
-                else:
-                    push_value(callback(*children))
+                popped = []
+            children = popped if select is None else select(popped)
+            if expand1 and len(children) == 1:
+                push_value(children[0])
+            elif callback is None:  # reuse a list grown in place (``item*``): no copy
+                push_value(children if type(children) is _Splice else _Splice(children))
+            else:
+                push_value(callback(*children))
             state = gotos[states[-1]][origin]
             push_state(state)
             if state == end and kind == "$END":
@@ -306,13 +311,16 @@ def _parse_chunk(text: str, file: str, offset: int) -> list:
 
 
 def parse_source(text: str, file: str = "<string>") -> tuple[ast.Program, list[Diagnostic]]:
-    """Parse ``text``; returns the (possibly partial) program and syntax diagnostics."""
+    """Parse ``text``; returns the (possibly partial) program and syntax diagnostics.
+    Declarations nested deeper than :data:`depth.MAX_NESTING` are left out (``E006``)."""
     with no_gc_pauses():
-        return _parse_source(text, file)
+        program, diags = _parse_source(text, file)
+        program, too_deep = limit_nesting(program)
+        return program, diags + too_deep
 
 
 def _parse_source(text: str, file: str) -> tuple[ast.Program, list[Diagnostic]]:
-    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    text = text.removeprefix(BOM).replace("\r\n", "\n").replace("\r", "\n")
     try:
         return ast.Program(tuple(_parse_chunk(text, file, 0)), file), []
     except (ParseFailure, LexError):
@@ -345,6 +353,9 @@ def _syntax_diagnostic(exc: Exception, chunk: str, file: str, offset: int) -> Di
                      hint_for(exc.char, frozenset()))
     assert isinstance(exc, ParseFailure)
     tok = exc.token
+    layout = indentation_error(tok, exc.expected, chunk.split("\n"), file, offset)
+    if layout is not None:
+        return layout
     end = _end_span(chunk, file, offset)
     if tok[0] in ("$END", "_DEDENT") or (tok[0] in ("_NL", "_INDENT") and tok[2] > end.line):
         span = end

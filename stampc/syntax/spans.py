@@ -14,19 +14,19 @@ _NONE_SPAN = ast.NOWHERE
 
 def _span_factory():
     """``Span(file, line, col, end_line, end_col)`` at half the cost of the frozen
-    dataclass ``__init__`` (the parser creates one per identifier). Falls back to the
-    regular constructor if ``Span`` ever stops being a plain ``__dict__`` dataclass."""
-    probe = Span("f", 1, 2, 3, 4)
-    if not hasattr(probe, "__dict__") or hasattr(Span, "__post_init__") or list(probe.__dict__) != \
-            ["file", "line", "col", "end_line", "end_col"]:
+    dataclass ``__init__`` (the parser creates one per identifier): the slots are filled
+    through their member descriptors. Falls back to the regular constructor if ``Span``
+    ever stops being a plain ``slots`` dataclass with these five fields."""
+    names = ("file", "line", "col", "end_line", "end_col")
+    if vars(Span).get("__slots__") != names or hasattr(Span, "__post_init__"):
         return Span
     new = object.__new__
+    s_file, s_line, s_col, s_end_line, s_end_col = [vars(Span)[n].__set__ for n in names]
 
     def make(file: str, line: int, col: int, end_line: int, end_col: int) -> Span:
         span = new(Span)
-        fields = span.__dict__
-        fields["file"], fields["line"], fields["col"] = file, line, col
-        fields["end_line"], fields["end_col"] = end_line, end_col
+        s_file(span, file), s_line(span, line), s_col(span, col)
+        s_end_line(span, end_line), s_end_col(span, end_col)
         return span
 
     return make

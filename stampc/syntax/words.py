@@ -25,6 +25,7 @@ STRUCTURAL = {"pre", "eff", "cost", "executes", "sample", "certifies", "binds", 
               "predicate", "function", "constant", "generator", "evaluator", "action", "object",
               "init", "goal", "horizon", "scene", "probabilistic", "when"}
 FORMULA_STARTS = {"NOT", "FORALL", "EXISTS"}
+CLAUSES = {"pre", "eff", "cost", "executes", "sample", "certifies", "binds", "budget", "option"}
 
 
 def _word(terminal: str) -> str:
@@ -37,7 +38,9 @@ def _word(terminal: str) -> str:
 
 def describe_token(tok: tuple) -> str:
     kind, text = tok[0], tok[1]
-    if kind in ("_NL", "_INDENT", "_DEDENT", "$END"):
+    if kind == "_INDENT":
+        return "indentation"
+    if kind in ("_NL", "_DEDENT", "$END"):
         return NAMED[kind]
     if kind == "NAME":
         return f"name `{text}`"
@@ -81,6 +84,14 @@ def _order(word: str) -> tuple[int, str]:
     return (rank, word)
 
 
+def non_ascii_hint(char: str) -> str:
+    code = f"U+{ord(char):04X}"
+    if char.isspace():
+        return f"{code} is a non-ASCII space; use a plain space"
+    return (f"{code} cannot be part of a name: names use letters of any script, digits and `_` "
+            "(like Python identifiers); operators and punctuation are ASCII")
+
+
 def hint_for(what: object, expected: frozenset[str]) -> str | None:
     """A short help line for common mistakes (``what`` is a token tuple or a character)."""
     if isinstance(what, str):
@@ -88,10 +99,14 @@ def hint_for(what: object, expected: frozenset[str]) -> str | None:
             return "stamp uses indentation and commas instead of brackets and semicolons"
         if what == "\t":
             return "indent with spaces"
+        if not what.isascii():
+            return non_ascii_hint(what)
         return None
     kind, text = what[0], what[1]
     if kind == "_INDENT":
         return "only the clauses of a declaration are indented; declarations start at column 1"
+    if text in CLAUSES and what[3] == 1 and expected & DECLARATION_KEYWORDS:
+        return f"`{text}` starts a clause: indent it under the declaration it belongs to"
     if kind == "_NL" and "COMMA" in expected and "RPAR" not in expected:
         return "a list continues on the next line only after a trailing `,`"
     if kind not in ("NAME", "NUMBER", "FRACTION", "STRING") and text.isidentifier() \

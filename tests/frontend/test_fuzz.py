@@ -99,3 +99,47 @@ def test_token_soup_never_crashes(text: str) -> None:
 @given(st.text(max_size=200))
 def test_arbitrary_text_never_crashes(text: str) -> None:
     run_front_end(text)
+
+
+# deep nesting: a random pattern of wrappers repeated to a random depth, around the
+# limit (E006 above it) or far past it (10,000 levels)
+FORMULA_WRAPPERS = ["not {}", "exists (y: t) {}", "forall (y: t) {}", "(p(x) or {})", "(q(x) and ({} or p(x)))",
+                    "p(x) implies {}", "({})"]
+EFFECT_WRAPPERS = ["when p(x): {}", "forall (y: t): {}", "probabilistic 1/2: {}"]
+DEEP_HEADER = "domain d\ntype t\npredicate p(x: t)\npredicate q(x: t)\nfunction f(x: t)\n"
+DEEP_PROBLEM = "problem pr for d\nobject o: t\ninit p(o), f(o) = 2\ngoal q(o)\n"
+
+
+def nest(pattern: list[str], depth: int, leaf: str) -> str:
+    text = leaf
+    for i in range(depth):
+        text = pattern[i % len(pattern)].format(text)
+    return text
+
+
+@st.composite
+def deep_sources(draw) -> str:
+    depth = draw(st.one_of(st.integers(1, 260), st.integers(9_990, 10_000)))
+    where = draw(st.sampled_from(["pre", "eff", "cost", "goal"]))
+    if where == "eff":
+        pattern = draw(st.lists(st.sampled_from(EFFECT_WRAPPERS), min_size=1, max_size=3))
+        body = "    pre  p(x)\n    eff  " + nest(pattern, depth, "q(x)") + "\n"
+    elif where == "cost":
+        body = "    pre  p(x)\n    eff  q(x)\n    cost " + " + ".join(["f(x)"] * depth) + "\n"
+    else:
+        pattern = draw(st.lists(st.sampled_from(FORMULA_WRAPPERS), min_size=1, max_size=3))
+        formula = nest(pattern, depth, "p(x)" if where == "pre" else "q(o)")
+        body = f"    pre  {formula if where == 'pre' else 'p(x)'}\n    eff  q(x)\n"
+        if where == "goal":
+            return DEEP_HEADER + "action a(x: t)\n" + body + DEEP_PROBLEM.replace("goal q(o)", f"goal {formula}")
+    return DEEP_HEADER + "action a(x: t)\n" + body + DEEP_PROBLEM
+
+
+@settings(max_examples=min(EXAMPLES_COUNT, 30), deadline=None, database=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(deep_sources())
+def test_deep_nesting_is_handled_or_e006(text: str) -> None:
+    run_front_end(text)
+    codes = {d.code for d in parse_source(text, "<fuzz>")[1]}
+    assert codes <= {"E006"}
+    assert codes or text.count("\n") < 40  # every 10,000-deep case is over the limit
