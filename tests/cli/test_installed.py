@@ -61,7 +61,7 @@ def test_refine_plane2d_then_execute(cli, checkout):
     """The README's refine command on the 2-D variant: the scene builder module
     ``examples.cluttered_table.scene`` is not importable from here and is loaded from
     the file beside the problem (its ``@dataclass`` needs it in ``sys.modules``)."""
-    refine = cli.run("refine", "examples/cluttered_table/domain.stamp",
+    refine = cli.run("refine", "examples/cluttered_table/domain_fixed.stamp",
                      "examples/cluttered_table/problem2d.stamp", "--world", "plane2d",
                      "--time-limit", "60", "--quiet", "-o", "out/", cwd=checkout)
     assert refine.code == 0, refine.err
