@@ -27,6 +27,7 @@ APPROACH_STEP = 0.05  # rad between checked configs of the straight approach
 def movable_hits(world: PyBulletWorld, config: Config, ignore: str) -> frozenset[str]:
     """Cans the arm (and the held can) touch at ``config`` and on its straight approach
     from ``config.pre``, besides ``ignore`` (the can being grasped or placed)."""
+    world.select(config.robot)
     configs = [config.q] if config.pre is None else interpolate(config.pre, config.q,
                                                                 APPROACH_STEP)
     hit: set[str] = set()
@@ -79,8 +80,8 @@ def placement(ctx: Context, o: str, s: str) -> Iterator[tuple[Pose, Config]]:
 
 def discard(ctx: Context, action: ConcreteAction) -> None:
     """Move to ``q`` (over the tray) and take ``o`` out of the scene."""
-    world = _world(ctx)
     o, q = str(_arg(action, "o")), as_config(_arg(action, "q"))
+    world = _world(ctx, q.robot)
     _check_object(world, o)
     world.update(q=q.q, retreat=None, released=None)
     changes: dict = {"removed": world.state.removed | {o}, "retreat": q.pre}

@@ -25,7 +25,7 @@ def fallen_pose(world: PyBulletWorld, name: str, standing: Pose) -> Pose:
     away from the robot base along the standing pose's horizontal direction.
     """
     sx, sy, sz = world.geometry[name].dims  # axis-aligned extents at identity
-    base = world.spec.robot.base if world.spec.robot else (0.0, 0.0, 0.0)
+    base = world.base_pose().pos if world.arms else (0.0, 0.0, 0.0)
     dx, dy = standing.pos[0] - base[0], standing.pos[1] - base[1]
     norm = math.hypot(dx, dy) or 1.0
     away = (dx / norm, dy / norm, 0.0)

@@ -8,6 +8,7 @@ the bodies at the world's current concrete state when it returns or yields.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Iterator
 
 from stampc.diagnostics import Span, StampcError, error
@@ -25,12 +26,30 @@ PLACE_SPACING = 0.01  # m between footprints of placed and present objects
 PLACE_MARGIN = 0.02  # m between a footprint and the surface edge
 
 
-def _world(ctx: Context) -> PyBulletWorld:
+def _world(ctx: Context, robot: str | None = None) -> PyBulletWorld:
+    """The context's world with robot ``robot`` (default: the first) selected."""
     world = ctx.world
-    if not isinstance(world, PyBulletWorld) or world.model is None:
+    if not isinstance(world, PyBulletWorld) or not world.arms:
         raise StampcError([error("PB010", "manipulation functions need a PyBullet world "
                                  "with a robot arm", Span.point("<world>"))])
-    return world  # type: ignore[return-value]
+    world.select(robot)
+    return world
+
+
+def _owner(world: PyBulletWorld) -> tuple[str, Pose]:
+    """The active robot's name and current base pose (recorded in generated values)."""
+    assert world.active_arm is not None
+    return world.active_arm.name, world.base_pose()
+
+
+def _check_base(world: PyBulletWorld, value: Config | Traj, what: str) -> None:
+    """A config or trajectory recorded for another base pose cannot be executed here."""
+    if value.base is not None and value.base != world.base_pose():
+        raise StampcError([error("PB016", f"{what} belongs to robot {value.robot!r} at base "
+                                 f"{value.base.pos}, but the robot stands at "
+                                 f"{world.base_pose().pos}", Span.point("<world>"),
+                                 "tie configs to base poses in the model (e.g. a base "
+                                 "argument of the grasp generator)")])
 
 
 def _check_object(world: PyBulletWorld, name: str) -> None:
@@ -62,18 +81,22 @@ def _approach_ok(world: PyBulletWorld, pre: tuple[float, ...], q: tuple[float, .
 
 
 # ------------------------------------------------------------------ generators
-def grasp(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:
-    """Grasps of ``o`` at pose ``p`` with a reaching, statically collision-free config."""
-    world = _world(ctx)
+def grasp(ctx: Context, o: str, p: Pose, r: str | None = None
+          ) -> Iterator[tuple[Grasp, Config]]:
+    """Grasps of ``o`` at pose ``p`` with a reaching, statically collision-free config
+    of robot ``r`` (default: the first) from where its base stands now."""
+    world = _world(ctx, r)
     _check_object(world, o)
     p = as_pose(p)
     kinds = str(ctx.options.get("grasps", "any"))
     yielded, budget = 0, _budget(ctx)
+    robot, base = _owner(world)
     for g in grasp_candidates(world.geometry[o], ctx.rng, kinds):
+        world.select(robot)  # other calls may have selected another robot meanwhile
         config = _grasp_config(world, ctx, o, p, g)
         world.set_arm(world.state.q)
         if config is not None:
-            yield g, config
+            yield replace(g, robot=robot, base=base), config
             yielded += 1
             if yielded >= budget:
                 return
@@ -81,14 +104,16 @@ def grasp(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:
 
 def _grasp_config(world: PyBulletWorld, ctx: Context, o: str, p: Pose,
                   g: Grasp) -> Config | None:
-    key = ("grasp-config", o, p, g)
+    robot, base = _owner(world)
+    key = ("grasp-config", robot, base, o, p, g)
     if key in ctx.cache:
         return ctx.cache[key]
     hand = p.multiply(g.hand)
     q = solve_ik(world, hand, ctx.rng, settings=_ik(ctx))
     pre = solve_ik(world, g.pregrasp(p), ctx.rng, seed_q=q, settings=_ik(ctx)) if q else None
     ok = q is not None and pre is not None and _approach_ok(world, pre, q)
-    ctx.cache[key] = Config.of(q, obj=o, pre=pre) if ok else None  # type: ignore[arg-type]
+    ctx.cache[key] = (Config.of(q, obj=o, pre=pre, robot=robot, base=base)  # type: ignore[arg-type]
+                      if ok else None)
     return ctx.cache[key]
 
 
@@ -96,19 +121,22 @@ def _ik(ctx: Context) -> IkSettings:
     return IkSettings(restarts=int(ctx.options.get("ik_restarts", 5)))
 
 
-def placement(ctx: Context, o: str, s: str) -> Iterator[tuple[Pose, Config]]:
-    """Poses of ``o`` on surface ``s`` and the configs that put it there.
+def placement(ctx: Context, o: str, s: str, r: str | None = None
+              ) -> Iterator[tuple[Pose, Config]]:
+    """Poses of ``o`` on surface ``s`` and the configs of robot ``r`` (default: the
+    first) that put it there.
 
     Uses the current grip if ``o`` is held (else a top grasp). The yielded pose is where
     the hand at the config actually puts the object (IK is within 5 mm / 0.05 rad).
     """
-    world = _world(ctx)
+    world = _world(ctx, r)
     _check_object(world, o)
     if s not in world.surfaces:
         raise StampcError([error("PB012", f"unknown surface {s!r}", Span.point("<world>"),
                                  f"surfaces: {', '.join(sorted(world.surfaces))}")])
     surface, geom = world.surfaces[s], world.geometry[o]
     state = world.state
+    robot = _owner(world)[0]
     grip = state.grip if state.held == o and state.grip is not None \
         else top_grasp(geom, 0.0).hand.inverse()
     others = [(pose.pos, world.geometry[n].footprint) for n, pose in state.poses
@@ -126,6 +154,7 @@ def placement(ctx: Context, o: str, s: str) -> Iterator[tuple[Pose, Config]]:
             continue
         z = surface.top + geom.height / 2 + PLACE_CLEARANCE
         target = Pose.of((x, y, z), quat_from_yaw(ctx.rng.uniform(-math.pi, math.pi)))
+        world.select(robot)  # other calls may have selected another robot meanwhile
         result = _place_config(world, ctx, o, target, grip)
         world.set_arm(state.q)
         if result is not None:
@@ -146,15 +175,20 @@ def _place_config(world: PyBulletWorld, ctx: Context, o: str, target: Pose,
     pre = solve_ik(world, above, ctx.rng, seed_q=q, settings=_ik(ctx))
     if pre is None or not _approach_ok(world, pre, q, placing=world.state.held == o):
         return None
-    return Pose.of(actual.pos, actual.quat), Config.of(q, obj=o, pre=pre)
+    robot, base = _owner(world)
+    return Pose.of(actual.pos, actual.quat), Config.of(q, obj=o, pre=pre, robot=robot,
+                                                       base=base)
 
 
 def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
     """Trajectories from the current config to ``q``: collision-free ones first, then
     (if the collision-free search fails) ones avoiding only static obstacles, so the
-    ``collision`` evaluator can name the movable objects in the way."""
-    world = _world(ctx)
+    ``collision`` evaluator can name the movable objects in the way. A config recorded
+    for another base pose of the robot yields nothing (it is out of reach from here)."""
     q = as_config(q)
+    world = _world(ctx, q.robot)
+    if q.base is not None and q.base != world.base_pose():
+        return
     budget = _budget(ctx) if "budget" in ctx.options else 4
     base = PlanSettings(planner=str(ctx.options.get("planner", "RRTConnect")),
                         max_checks=int(ctx.options.get("max_checks", 20000)),
@@ -166,6 +200,7 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
         for attempt in range(budget):
             settings = PlanSettings(base.planner, base.max_checks, base.time_limit,
                                     static_only, straight=attempt == 0)
+            world.select(q.robot)  # other calls may have selected another robot meanwhile
             traj = plan_trajectory(world, q, ctx.rng, settings, stats)
             world.set_arm(world.state.q)
             if traj is None:
@@ -181,8 +216,8 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
 def blocking_objects(ctx: Context, t: Traj) -> frozenset[str]:
     """Movable objects the trajectory (robot and held object) hits, computed once per
     trajectory and state at fine resolution."""
-    world = _world(ctx)
     t = as_traj(t)
+    world = _world(ctx, t.robot)
     key = ("sweep", t)
     if key not in ctx.cache:
         hit = sweep(world, t)
@@ -214,8 +249,9 @@ def reachable(ctx: Context, o: str, p: Pose) -> bool:
 
 def trajectory_free(ctx: Context, t: Traj) -> bool:
     """Whether ``t`` is collision-free against everything (fine resolution)."""
-    world = _world(ctx)
-    hit = sweep(world, as_traj(t), stop_on_hit=True)
+    t = as_traj(t)
+    world = _world(ctx, t.robot)
+    hit = sweep(world, t, stop_on_hit=True)
     world.set_arm(world.state.q)
     return not counts(world, hit, static_only=False)
 
@@ -234,9 +270,10 @@ def _arg(action: ConcreteAction, name: str) -> object:
 
 def pick(ctx: Context, action: ConcreteAction) -> None:
     """Move to the grasp config; attach ``o`` iff the outcome adds ``holding``."""
-    world = _world(ctx)
     o, q = str(_arg(action, "o")), as_config(_arg(action, "q"))
+    world = _world(ctx, q.robot)
     _check_object(world, o)
+    _check_base(world, q, "the grasp config")
     world.update(q=q.q, retreat=None, released=None)
     if _adds(action, "holding", o) and world.present(o):
         grip = world.ee_pose().inverse().multiply(world.object_pose(o))
@@ -249,9 +286,10 @@ def place(ctx: Context, action: ConcreteAction) -> None:
     """Move to the place config; put ``o`` at ``p`` iff the outcome adds ``at``; if it
     only deletes ``holding(o)`` the object is let go where the hand holds it; otherwise
     (a slip that keeps it in hand) ``o`` stays held."""
-    world = _world(ctx)
     o, p, q = str(_arg(action, "o")), as_pose(_arg(action, "p")), as_config(_arg(action, "q"))
+    world = _world(ctx, q.robot)
     _check_object(world, o)
+    _check_base(world, q, "the place config")
     world.update(q=q.q, retreat=None, released=None)
     if world.state.held != o:
         world.update(retreat=q.pre)

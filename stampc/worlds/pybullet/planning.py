@@ -229,8 +229,10 @@ def plan_trajectory(world: PyBulletWorld, goal: Config, rng: random.Random,
     if middle is None:
         return None
     configs = tuple(head + middle[1:-1] + tail)
+    arm = world.active_arm
     traj = Traj(configs, state.held, target, state.released, retreat_end=len(head) - 1,
-                approach_start=len(configs) - len(tail), static_only=settings.static_only)
+                approach_start=len(configs) - len(tail), static_only=settings.static_only,
+                robot=arm.name if arm else None, base=world.base_pose())
     hit = sweep(world, traj, stop_on_hit=True, static_only=settings.static_only)
     world.set_arm(state.q)
     return None if counts(world, hit, settings.static_only) else traj

@@ -3,6 +3,10 @@
 A scene is a plain dict (see ``docs/worlds-pybullet.md``)::
 
     {"robot": {"model": "panda", "base": [0, 0, 0], "yaw": 0},
+     # or several, each optionally a mobile base with named candidate base poses:
+     # "robots": [{"name": "left", "model": "panda", "base": [...], "yaw": 0,
+     #             "bases": [{"name": "north", "base": [x, y, 0], "yaw": 0}, ...],
+     #             "start": "north"}],
      "surfaces": [{"name": "table", "size": [sx, sy, sz], "position": [x, y, z]}],
      "objects": [{"name": "can0", "shape": "cylinder", "radius": 0.03, "height": 0.15,
                   "position": [x, y, z], "yaw": 0, "mass": 0.1, "color": [r, g, b, a]},
@@ -67,10 +71,26 @@ ROBOT_MODELS: Mapping[str, RobotModel] = MappingProxyType({
 
 
 @dataclass(frozen=True)
+class BaseSpec:
+    """A named base pose a mobile robot can be moved to (position of the base, yaw)."""
+
+    name: str
+    base: tuple[float, float, float]
+    yaw: float
+
+
+@dataclass(frozen=True)
 class RobotSpec:
+    """One robot: its model, initial base pose and (for a mobile base) the candidate
+    base poses it can be re-placed at."""
+
     model: str
     base: tuple[float, float, float]
     yaw: float
+    name: str = "robot"
+    bases: tuple[BaseSpec, ...] = ()
+    #: the candidate base the robot starts at (None: its ``base``/``yaw`` fields)
+    start: str | None = None
 
 
 @dataclass(frozen=True)
@@ -117,7 +137,7 @@ class UavSpec:
 
 @dataclass(frozen=True)
 class SceneSpec:
-    robot: RobotSpec | None
+    robots: tuple[RobotSpec, ...]
     surfaces: tuple[BoxSpec, ...]
     objects: tuple[ObjectSpec, ...]
     poses: tuple[tuple[str, str], ...]
@@ -127,6 +147,11 @@ class SceneSpec:
     #: e.g. the keva structure's slot poses); not compared
     meta: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}),
                                     compare=False)
+
+    @property
+    def robot(self) -> RobotSpec | None:
+        """The first robot (the only one in single-robot scenes), or None."""
+        return self.robots[0] if self.robots else None
 
 
 # ------------------------------------------------------------------ validation
@@ -178,21 +203,68 @@ class _Checker:
         return value
 
 
-def _robot(c: _Checker, raw: Any) -> RobotSpec | None:
-    if raw is None:
-        return None
+def _robot(c: _Checker, raw: Any, where: int, seen: set[str],
+           default_name: str = "robot") -> RobotSpec | None:
     if not isinstance(raw, Mapping):
-        c.fail(1, "'robot' must be an object")
+        c.fail(where, "a robot must be an object")
         return None
     model = raw.get("model", "panda")
     if model not in ROBOT_MODELS:
-        c.fail(1, f"unknown robot model {model!r}", f"known models: {', '.join(ROBOT_MODELS)}")
+        c.fail(where, f"unknown robot model {model!r}",
+               f"known models: {', '.join(ROBOT_MODELS)}")
         return None
-    base = c.vec(raw, "base", 3, 1, default=(0.0, 0.0, 0.0))
-    yaw = c.num(raw, "yaw", 1, default=0.0)
-    if base is None or yaw is None:
+    name = c.name({"name": raw.get("name", default_name)}, where, seen)
+    bases = _bases(c, raw.get("bases", []), where, seen)
+    if bases is None:
         return None
-    return RobotSpec(model, base, yaw)  # type: ignore[arg-type]
+    start = raw.get("start")
+    if start is not None and start not in {b.name for b in bases}:
+        c.fail(where, f"robot start {start!r} is not one of its 'bases'")
+        return None
+    if start is None and bases and "base" not in raw:
+        start = bases[0].name  # a mobile robot without an explicit pose starts at its first
+    first = next((b for b in bases if b.name == start), None)
+    base = first.base if first else c.vec(raw, "base", 3, where, default=(0.0, 0.0, 0.0))
+    yaw = first.yaw if first else c.num(raw, "yaw", where, default=0.0)
+    if name is None or base is None or yaw is None:
+        return None
+    return RobotSpec(model, base, yaw, name, bases, start)  # type: ignore[arg-type]
+
+
+def _bases(c: _Checker, raw: Any, where: int, seen: set[str]) -> tuple[BaseSpec, ...] | None:
+    if not isinstance(raw, Sequence) or isinstance(raw, str):
+        c.fail(where, "'bases' must be a list of {name, base, yaw} objects")
+        return None
+    out = []
+    for entry in raw:
+        if not isinstance(entry, Mapping):
+            c.fail(where, f"a 'bases' entry must be an object, got {entry!r}")
+            return None
+        name = c.name(entry, where, seen)
+        base = c.vec(entry, "base", 3, where)
+        yaw = c.num(entry, "yaw", where, default=0.0)
+        if name is None or base is None or yaw is None:
+            return None
+        out.append(BaseSpec(name, base, yaw))  # type: ignore[arg-type]
+    return tuple(out)
+
+
+def _robots(c: _Checker, scene: Mapping, seen: set[str]) -> tuple[RobotSpec, ...]:
+    """The ``robots`` list, or the single ``robot`` object (named ``robot``)."""
+    if "robot" in scene and "robots" in scene:
+        c.fail(1, "give either 'robot' (one) or 'robots' (a list), not both")
+        return ()
+    if "robot" in scene:
+        if scene["robot"] is None:
+            return ()
+        one = _robot(c, scene["robot"], 1, seen)
+        return (one,) if one else ()
+    raw = scene.get("robots", [])
+    if not isinstance(raw, Sequence) or isinstance(raw, str):
+        c.fail(1, "'robots' must be a list of robot objects")
+        return ()
+    robots = [_robot(c, entry, i, seen, f"robot{i - 1}") for i, entry in enumerate(raw, 1)]
+    return tuple(r for r in robots if r is not None)
 
 
 def _boxes(c: _Checker, raw: Any, key: str, seen: set[str]) -> tuple[BoxSpec, ...]:
@@ -281,13 +353,13 @@ def parse_scene(scene: Mapping) -> SceneSpec:
     if not isinstance(scene, Mapping):
         c.fail(1, f"a scene must be a JSON object, got {type(scene).__name__}")
         raise StampcError(c.diags)
-    known = {"robot", "surfaces", "objects", "poses", "regions", "uav", "name", "meta"}
+    known = {"robot", "robots", "surfaces", "objects", "poses", "regions", "uav", "name", "meta"}
     for key in scene:
         if key not in known:
             c.fail(1, f"unknown scene key {key!r}", f"known keys: {', '.join(sorted(known))}")
     seen: set[str] = set()
-    c.section = "robot"
-    robot = _robot(c, scene.get("robot"))
+    c.section = "robots" if "robots" in scene else "robot"
+    robots = _robots(c, scene, seen)
     c.section = "surfaces"
     surfaces = _boxes(c, scene.get("surfaces", []), "surfaces", seen)
     c.section = "objects"
@@ -316,9 +388,9 @@ def parse_scene(scene: Mapping) -> SceneSpec:
     meta = scene.get("meta", {})
     meta = meta if isinstance(meta, Mapping) else {}  # free-form: never an error
     c.section = ""
-    if robot is None and uav is None and not c.diags:
+    if not robots and uav is None and not c.diags:
         c.fail(1, "a scene needs a 'robot' or a 'uav'")
     if c.diags:
         raise StampcError(c.diags)
-    return SceneSpec(robot, surfaces, objects, tuple(poses), regions, uav,
+    return SceneSpec(robots, surfaces, objects, tuple(poses), regions, uav,
                      MappingProxyType(dict(meta)))

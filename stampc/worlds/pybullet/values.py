@@ -106,6 +106,9 @@ class Grasp:
     approach: Vec3
     kind: str = "top"
     standoff: float = 0.1
+    #: the robot and base pose the grasp was generated for (None: not recorded)
+    robot: str | None = None
+    base: Pose | None = None
 
     def pregrasp(self, object_pose: Pose) -> Pose:
         hand = object_pose.multiply(self.hand)
@@ -114,7 +117,7 @@ class Grasp:
 
     def to_json(self) -> dict:
         return {"hand": self.hand.to_json(), "approach": list(self.approach),
-                "kind": self.kind, "standoff": self.standoff}
+                "kind": self.kind, "standoff": self.standoff, **_owner(self)}
 
 
 @dataclass(frozen=True)
@@ -129,12 +132,15 @@ class Config:
     q: tuple[float, ...]
     obj: str | None = None
     pre: tuple[float, ...] | None = None
+    #: the robot whose joints these are and its base pose (None: not recorded)
+    robot: str | None = None
+    base: Pose | None = None
 
     @staticmethod
-    def of(q: Sequence[float], obj: str | None = None,
-           pre: Sequence[float] | None = None) -> "Config":
+    def of(q: Sequence[float], obj: str | None = None, pre: Sequence[float] | None = None,
+           robot: str | None = None, base: Pose | None = None) -> "Config":
         return Config(tuple(float(v) for v in q), obj,
-                      None if pre is None else tuple(float(v) for v in pre))
+                      None if pre is None else tuple(float(v) for v in pre), robot, base)
 
     def to_json(self) -> dict:
         out: dict = {"q": list(self.q)}
@@ -142,7 +148,7 @@ class Config:
             out["obj"] = self.obj
         if self.pre is not None:
             out["pre"] = list(self.pre)
-        return out
+        return {**out, **_owner(self)}
 
 
 @dataclass(frozen=True)
@@ -164,6 +170,9 @@ class Traj:
     approach_start: int = -1
     #: True when planned against static obstacles only (it may hit movable objects)
     static_only: bool = False
+    #: the robot that moves and its base pose (None: not recorded)
+    robot: str | None = None
+    base: Pose | None = None
 
     def __post_init__(self) -> None:
         if self.approach_start < 0:
@@ -185,7 +194,29 @@ class Traj:
         return {"configs": [list(c) for c in self.configs], "held": self.held,
                 "target": self.target, "released": self.released,
                 "retreat_end": self.retreat_end, "approach_start": self.approach_start,
-                "static_only": self.static_only}
+                "static_only": self.static_only, **_owner(self)}
+
+
+@dataclass(frozen=True)
+class Base:
+    """A base pose of a mobile robot: which robot, the candidate's name, where."""
+
+    robot: str
+    name: str
+    pose: Pose
+
+    def to_json(self) -> dict:
+        return {"robot": self.robot, "name": self.name, "pose": self.pose.to_json()}
+
+
+def _owner(value: "Grasp | Config | Traj") -> dict:
+    """The JSON fields naming the robot and base pose a value belongs to (if recorded)."""
+    out: dict = {}
+    if value.robot is not None:
+        out["robot"] = value.robot
+    if value.base is not None:
+        out["base"] = value.base.to_json()
+    return out
 
 
 def interpolate(a: Sequence[float], b: Sequence[float], step: float) -> list[tuple[float, ...]]:
@@ -234,11 +265,16 @@ def as_pose(value: object) -> Pose:
         raise _bad_value("Pose", value) from None
 
 
+def _base_of(data: object) -> Pose | None:
+    return None if data is None else as_pose(data)
+
+
 def as_config(value: object) -> Config:
     if isinstance(value, Config):
         return value
     try:
-        return Config.of(value["q"], value.get("obj"), value.get("pre"))  # type: ignore[index,union-attr]
+        return Config.of(value["q"], value.get("obj"), value.get("pre"),  # type: ignore[index,union-attr]
+                         value.get("robot"), _base_of(value.get("base")))  # type: ignore[union-attr]
     except (TypeError, KeyError, AttributeError, ValueError):
         raise _bad_value("Config", value) from None
 
@@ -249,6 +285,16 @@ def as_traj(value: object) -> Traj:
     try:
         data = dict(value)  # type: ignore[call-overload]
         configs = tuple(tuple(float(v) for v in c) for c in data.pop("configs"))
+        data["base"] = _base_of(data.get("base"))
         return Traj(configs, **data)
     except (TypeError, KeyError, AttributeError, ValueError):
         raise _bad_value("Traj", value) from None
+
+
+def as_base(value: object) -> Base:
+    if isinstance(value, Base):
+        return value
+    try:
+        return Base(str(value["robot"]), str(value["name"]), as_pose(value["pose"]))  # type: ignore[index]
+    except (TypeError, KeyError, AttributeError, ValueError):
+        raise _bad_value("Base", value) from None

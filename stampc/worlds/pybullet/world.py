@@ -10,60 +10,24 @@ robot against itself); objects resting on a table are never compared with each o
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any, Mapping
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.pybullet._pb import p, pybullet_data, quiet_stdout
 
 from stampc.worlds.pybullet.scene import (ROBOT_MODELS, BoxSpec, ObjectSpec, RobotModel,
-                                          SceneSpec)
+                                          RobotSpec, SceneSpec)
+from stampc.worlds.pybullet.state import ARM_FIELDS, Arm, ArmState, Geometry, WorldState
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
+
+__all__ = ["PyBulletWorld", "WorldState", "ArmState", "Arm", "Geometry", "PENETRATION",
+           "G_ROBOT", "G_HELD", "G_MOVABLE", "G_STATIC", "G_UAV"]
 
 # collision filter groups (bit masks)
 G_ROBOT, G_HELD, G_MOVABLE, G_STATIC, G_UAV = 1, 2, 4, 8, 16
 #: contacts shallower than this (m) are resting contacts, not collisions
 PENETRATION = 1e-4
-
-
-@dataclass(frozen=True)
-class Geometry:
-    """Shape facts the generators need: kind, dimensions and footprint."""
-
-    kind: str  # "cylinder" | "box"
-    dims: tuple[float, ...]  # (radius, height) | (sx, sy, sz)
-
-    @property
-    def height(self) -> float:
-        return self.dims[1] if self.kind == "cylinder" else self.dims[2]
-
-    @property
-    def footprint(self) -> float:
-        """Radius of a circle around the object's base (for overlap tests)."""
-        if self.kind == "cylinder":
-            return self.dims[0]
-        return 0.5 * (self.dims[0] ** 2 + self.dims[1] ** 2) ** 0.5
-
-
-@dataclass(frozen=True)
-class WorldState:
-    """Everything that changes while a plan executes (immutable: snapshots share it)."""
-
-    q: tuple[float, ...]
-    poses: tuple[tuple[str, Pose], ...]
-    held: str | None = None
-    #: the held object's pose in the end-effector frame
-    grip: Pose | None = None
-    #: straight back-off the next arm motion starts with (set by pick and place)
-    retreat: tuple[float, ...] | None = None
-    released: str | None = None
-    uav: Pose | None = None
-    battery: float = 0.0
-    #: objects taken out of the scene (e.g. a crushed can thrown away)
-    removed: frozenset[str] = frozenset()
-
-    def pose(self, name: str) -> Pose:
-        return dict(self.poses)[name]
 
 
 class PyBulletWorld:
@@ -94,18 +58,79 @@ class PyBulletWorld:
         self.regions: dict[str, BoxSpec] = {r.name: r for r in spec.regions}
         self.static_ids: frozenset[int] = frozenset(self._add_box(s) for s in spec.surfaces)
         self.movable_ids: frozenset[int] = frozenset(self._add_object(o) for o in spec.objects)
-        self.robot = -1
-        self.model: RobotModel | None = None
-        if spec.robot is not None:
-            self._add_robot()
+        self.arms: dict[str, Arm] = {r.name: self._add_robot(r) for r in spec.robots}
+        self._arm_order = tuple(self.arms)
         self.uav = self._add_uav() if spec.uav is not None else -1
         self._placed: dict[str, Pose] = {}
+        self._bases: dict[str, Pose] = {}
         poses = tuple((o.name, Pose.of(o.position, quat_from_yaw(o.yaw))) for o in spec.objects)
-        q0 = self.model.rest if self.model else ()
+        arms = tuple(ArmState(a.model.rest, Pose.of(a.spec.base, quat_from_yaw(a.spec.yaw)),
+                              a.spec.start) for a in self.arms.values())
         uav_pose = Pose.of(spec.uav.position) if spec.uav else None
         battery = spec.uav.battery if spec.uav else 0.0
-        self._state = WorldState(q0, poses, uav=uav_pose, battery=battery)
+        self._state = WorldState(arms, poses, uav=uav_pose, battery=battery)
         self._sync(self._state, force=True)
+
+    # the active robot (what kinematics, planning and the collision check use)
+    @property
+    def active_arm(self) -> Arm | None:
+        return self.arms[self._arm_order[self._state.active]] if self.arms else None
+
+    @property
+    def robot(self) -> int:
+        arm = self.active_arm
+        return arm.body if arm else -1
+
+    @property
+    def model(self) -> RobotModel | None:
+        arm = self.active_arm
+        return arm.model if arm else None
+
+    @property
+    def lower(self) -> tuple[float, ...]:
+        return self.active_arm.lower  # type: ignore[union-attr]
+
+    @property
+    def upper(self) -> tuple[float, ...]:
+        return self.active_arm.upper  # type: ignore[union-attr]
+
+    @property
+    def ik_joints(self) -> tuple[int, ...]:
+        return self.active_arm.ik_joints  # type: ignore[union-attr]
+
+    @property
+    def robot_names(self) -> tuple[str, ...]:
+        return self._arm_order
+
+    def select(self, name: str | None = None) -> Arm:
+        """Make robot ``name`` (default: the first) the active one; return it.
+
+        Every bound function selects the robot it acts for on entry (from an explicit
+        argument or the robot recorded in a config or trajectory), so the selection left
+        behind by an earlier call never matters.
+        """
+        if not self.arms:
+            raise StampcError([error("PB010", "this PyBullet world has no robot arm",
+                                     Span.point("<world>"))])
+        key = self._arm_order[0] if name is None else name
+        if key not in self.arms:
+            raise StampcError([error("PB015", f"unknown robot {name!r}", Span.point("<world>"),
+                                     f"robots: {', '.join(self._arm_order)}")])
+        index = self._arm_order.index(key)
+        if index != self._state.active:
+            self._state = replace(self._state, active=index)
+        return self.arms[key]
+
+    def base_pose(self, name: str | None = None) -> Pose:
+        """Where robot ``name`` (default: the active one) stands now."""
+        index = self._state.active if name is None else self._arm_order.index(name)
+        return self._state.arms[index].base
+
+    def candidate_bases(self, name: str | None = None) -> dict[str, Pose]:
+        """Robot ``name``'s named base poses (empty for a fixed base)."""
+        arm = self.active_arm if name is None else self.arms[name]
+        assert arm is not None
+        return {b.name: Pose.of(b.base, quat_from_yaw(b.yaw)) for b in arm.spec.bases}
 
     def _register(self, name: str, body: int) -> int:
         self.body[name] = body
@@ -157,30 +182,28 @@ class PyBulletWorld:
                                       physicsClientId=cid)
         return self._register(o.name, body)
 
-    def _add_robot(self) -> None:
-        assert self.spec.robot is not None
+    def _add_robot(self, spec: RobotSpec) -> Arm:
         cid = self.client
-        self.model = model = ROBOT_MODELS[self.spec.robot.model]
+        model = ROBOT_MODELS[spec.model]
         flags = p.URDF_USE_SELF_COLLISION if model.self_collision else 0
         with quiet_stdout(not self.verbose):
-            self.robot = p.loadURDF(model.urdf, self.spec.robot.base,
-                                    quat_from_yaw(self.spec.robot.yaw), useFixedBase=True,
-                                    flags=flags, physicsClientId=cid)
+            body = p.loadURDF(model.urdf, spec.base, quat_from_yaw(spec.yaw),
+                              useFixedBase=True, flags=flags, physicsClientId=cid)
         for a, b in model.ignored_self_pairs:
-            p.setCollisionFilterPair(self.robot, self.robot, a, b, 0, physicsClientId=cid)
-        mask = G_MOVABLE | G_STATIC | (G_ROBOT if model.self_collision else 0)
-        for link in range(-1, p.getNumJoints(self.robot, physicsClientId=cid)):
-            p.setCollisionFilterGroupMask(self.robot, link, G_ROBOT, mask, physicsClientId=cid)
-        infos = [p.getJointInfo(self.robot, j, physicsClientId=cid) for j in model.arm_joints]
-        self.lower = tuple(i[8] for i in infos)
-        self.upper = tuple(i[9] for i in infos)
-        self.name_of[self.robot] = "robot"
+            p.setCollisionFilterPair(body, body, a, b, 0, physicsClientId=cid)
+        # G_ROBOT in the mask: self-collision (if the URDF flag is on) and other robots
+        mask = G_MOVABLE | G_STATIC | G_ROBOT
+        n_joints = p.getNumJoints(body, physicsClientId=cid)
+        for link in range(-1, n_joints):
+            p.setCollisionFilterGroupMask(body, link, G_ROBOT, mask, physicsClientId=cid)
+        infos = [p.getJointInfo(body, j, physicsClientId=cid) for j in model.arm_joints]
+        self.name_of[body] = spec.name
         for j in model.finger_joints:  # fingers stay open: conservative for collisions
-            p.resetJointState(self.robot, j, model.finger_open, physicsClientId=cid)
-        movable = [j for j in range(p.getNumJoints(self.robot, physicsClientId=cid))
-                   if p.getJointInfo(self.robot, j, physicsClientId=cid)[2] != p.JOINT_FIXED]
-        #: all non-fixed joints, in the order IK returns them
-        self.ik_joints = tuple(movable)
+            p.resetJointState(body, j, model.finger_open, physicsClientId=cid)
+        movable = tuple(j for j in range(n_joints)
+                        if p.getJointInfo(body, j, physicsClientId=cid)[2] != p.JOINT_FIXED)
+        return Arm(spec.name, body, model, tuple(i[8] for i in infos),
+                   tuple(i[9] for i in infos), movable, spec)
 
     def _add_uav(self) -> int:
         u = self.spec.uav
@@ -227,8 +250,9 @@ class PyBulletWorld:
         def pose(x: Pose | None) -> tuple | None:
             return None if x is None else (r(x.pos), r(x.quat))
 
-        return (r(state.q), tuple((n, pose(x)) for n, x in state.poses), state.held,
-                pose(state.grip), r(state.retreat), state.released, pose(state.uav),
+        arms = tuple((r(a.q), pose(a.base), a.base_name, a.held, pose(a.grip), r(a.retreat),
+                      a.released) for a in state.arms)
+        return (arms, tuple((n, pose(x)) for n, x in state.poses), pose(state.uav),
                 round(state.battery, 6), tuple(sorted(state.removed)))
 
     def __enter__(self) -> "PyBulletWorld":
@@ -245,22 +269,29 @@ class PyBulletWorld:
     def _sync(self, state: WorldState, force: bool = False) -> None:
         """Make the bodies match ``state``, touching only what changed."""
         old = self._state
-        if force or old.held != state.held:
-            if old.held is not None:
-                self._set_group(old.held, G_MOVABLE, G_ROBOT | G_HELD | G_UAV)
-            if state.held is not None:
-                self._set_group(state.held, G_HELD, G_MOVABLE | G_STATIC)
+        before, after = old.all_held(), state.all_held()
+        for name in (before - after) | (before if force else frozenset()):
+            self._set_group(name, G_MOVABLE, G_ROBOT | G_HELD | G_UAV)
+        for name in (after - before) | (after if force else frozenset()):
+            self._set_group(name, G_HELD, G_MOVABLE | G_STATIC)
         for name, pose in state.poses:
             if name in state.removed:
                 pose = self._limbo(name)
             if force or self._placed.get(name) != pose:
                 self._place_body(name, pose)
         self._state = state
-        if self.robot >= 0:
-            self.set_arm(state.q)
+        for index, arm in enumerate(state.arms):
+            self._place_base(self._arm_order[index], arm.base, force)
+            self._set_joints(index, arm.q)
         if self.uav >= 0 and state.uav is not None:
             p.resetBasePositionAndOrientation(self.uav, state.uav.pos, state.uav.quat,
                                               physicsClientId=self.client)
+
+    def _place_base(self, name: str, base: Pose, force: bool = False) -> None:
+        if force or self._bases.get(name) != base:
+            p.resetBasePositionAndOrientation(self.arms[name].body, base.pos, base.quat,
+                                              physicsClientId=self.client)
+            self._bases[name] = base
 
     def _limbo(self, name: str) -> Pose:
         """Where removed objects wait: far below the floor, apart from each other."""
@@ -276,8 +307,22 @@ class PyBulletWorld:
         self._placed[name] = pose
 
     def update(self, **changes: object) -> None:
-        """Replace fields of the current state (and move bodies accordingly)."""
-        self._sync(replace(self._state, **changes))
+        """Replace fields of the current state (and move bodies accordingly); the
+        per-robot fields (``q``, ``held``, ``grip``, ``retreat``, ``released``, ``base``,
+        ``base_name``) change the active robot's."""
+        arm_changes = {k: v for k, v in changes.items() if k in ARM_FIELDS}
+        state = replace(self._state, **{k: v for k, v in changes.items()
+                                        if k not in ARM_FIELDS})
+        if arm_changes:
+            arms = list(state.arms)
+            arms[state.active] = replace(arms[state.active], **arm_changes)
+            state = replace(state, arms=tuple(arms))
+        self._sync(state)
+
+    def move_base(self, base: Pose, name: str | None = None) -> None:
+        """Re-place the active robot's base at ``base`` (candidate ``name``); the arm keeps
+        its joints, a held object moves along."""
+        self.update(base=base, base_name=name, retreat=None, released=None)
 
     def with_object_pose(self, name: str, pose: Pose) -> tuple[tuple[str, Pose], ...]:
         return tuple((n, pose if n == name else old) for n, old in self._state.poses)
@@ -293,19 +338,27 @@ class PyBulletWorld:
 
     # ------------------------------------------------------------------ kinematics
     def set_arm(self, q: tuple[float, ...] | list[float]) -> None:
-        """Put the arm at ``q`` (and carry the held object along)."""
-        assert self.model is not None
-        p.resetJointStatesMultiDof(self.robot, self.model.arm_joints, [[v] for v in q],
+        """Put the active arm at ``q`` (and carry its held object along)."""
+        self._set_joints(self._state.active, q)
+
+    def _set_joints(self, index: int, q: tuple[float, ...] | list[float]) -> None:
+        arm = self.arms[self._arm_order[index]]
+        p.resetJointStatesMultiDof(arm.body, arm.model.arm_joints, [[v] for v in q],
                                    physicsClientId=self.client)
-        if self._state.held is not None and self._state.grip is not None:
-            obj = self.ee_pose().multiply(self._state.grip)
-            p.resetBasePositionAndOrientation(self.body[self._state.held], obj.pos, obj.quat,
+        state = self._state.arms[index]
+        if state.held is not None and state.grip is not None:
+            obj = self._ee_pose(arm).multiply(state.grip)
+            p.resetBasePositionAndOrientation(self.body[state.held], obj.pos, obj.quat,
                                               physicsClientId=self.client)
-            self._placed.pop(self._state.held, None)  # the body left its recorded pose
+            self._placed.pop(state.held, None)  # the body left its recorded pose
 
     def ee_pose(self) -> Pose:
-        assert self.model is not None
-        ls = p.getLinkState(self.robot, self.model.ee_link, computeForwardKinematics=True,
+        arm = self.active_arm
+        assert arm is not None
+        return self._ee_pose(arm)
+
+    def _ee_pose(self, arm: Arm) -> Pose:
+        ls = p.getLinkState(arm.body, arm.model.ee_link, computeForwardKinematics=True,
                             physicsClientId=self.client)
         return Pose(tuple(ls[4]), tuple(ls[5]))
 
