@@ -24,7 +24,7 @@ from examples.keva.structures import PLANK, STRUCTURES, Role, relations, roles, 
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 
 ARMS = {"left": (0.0, 0.22), "right": (0.0, -0.22)}  # base (x, y) of the two Pandas
-FEEDS = {"feed1": (0.34, 0.3, 0.0), "feed2": (0.34, -0.3, 0.0)}  # x, y, yaw
+FEEDS = {"feed1": (0.3, 0.2, 0.0), "feed2": (0.3, -0.2, 0.0)}  # x, y, yaw
 TABLE = {"name": "table", "size": [0.6, 0.9, 0.05], "position": [0.55, 0.0, -0.025]}
 SUPPLY = {"name": "supply", "size": [0.6, 0.4, 0.05], "position": [-0.2, 1.6, -0.025],
           "color": [0.45, 0.45, 0.5, 1.0]}

@@ -35,7 +35,7 @@ TOWER_SPACING = 0.17  # m between the axes of the 3-towers structure's towers
 STRUCTURES = ("pi", "tower", "twisted", "3towers")
 #: the region the structure's site (its first plank's frame) is sampled from:
 #: x, y ranges in the world frame (in front of the two arms) and the yaw range
-SITE_X, SITE_Y, SITE_YAW = (0.52, 0.6), (-0.06, 0.06), (0.0, math.pi)
+SITE_X, SITE_Y, SITE_YAW = (0.56, 0.62), (-0.06, 0.06), (0.0, math.pi)
 
 
 @dataclass(frozen=True)
