@@ -23,8 +23,9 @@ from pathlib import Path
 from examples.keva.structures import PLANK, STRUCTURES, Role, relations, roles, site
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 
-ARMS = {"left": (0.0, 0.22), "right": (0.0, -0.22)}  # base (x, y) of the two Pandas
-FEEDS = {"feed1": (0.3, 0.2, 0.0), "feed2": (0.3, -0.2, 0.0)}  # x, y, yaw
+ARMS = {"left": (0.0, 0.16), "right": (0.0, -0.16)}  # base (x, y) of the two Pandas
+#: x, y, yaw of the person's two feed locations and of the buffer (hand-over) spot
+FEEDS = {"feed1": (0.28, 0.3, 0.0), "feed2": (0.28, -0.3, 0.0), "buffer": (0.26, 0.0, 0.0)}
 TABLE = {"name": "table", "size": [0.6, 0.9, 0.05], "position": [0.55, 0.0, -0.025]}
 SUPPLY = {"name": "supply", "size": [0.6, 0.4, 0.05], "position": [-0.2, 1.6, -0.025],
           "color": [0.45, 0.45, 0.5, 1.0]}
@@ -48,7 +49,7 @@ def build(structure: str = "tower", levels: int = 2, seed: int = 0) -> dict:
                 "color": [0.85, 0.7, 0.45, 1.0]} for i in range(len(targets))]
     feeds = {name: Pose.of((x, y, t / 2), quat_from_yaw(yaw)).to_json()
              for name, (x, y, yaw) in FEEDS.items()}
-    at = site(seed)
+    at = site(seed, structure)
     return {
         "robots": [{"name": name, "model": "panda", "base": [x, y, 0.0], "yaw": 0.0}
                    for name, (x, y) in ARMS.items()],
@@ -74,7 +75,7 @@ def problem_text(structure: str = "tower", levels: int = 2, seed: int = 0, *,
     level_of = {r.name: (r.group if local else 0) for r in targets}
     n_levels = max(level_of.values()) + 1
     under = {level_of[r.name]: level_of[r.supports[0]] for r in targets if r.supports}
-    facts = ["feeds_clear", "free(left)", "free(right)", "spans(horizontal)",
+    facts = ["free(left)", "free(right)", "spans(horizontal)",
              "spans(sideways)"]
     facts += [f"ground_level(l{g})" for g in sorted({level_of[r.name] for r in targets
                                                       if not r.supports})]

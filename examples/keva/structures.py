@@ -31,11 +31,13 @@ ORIENTATIONS = ("vertical", "horizontal", "sideways")
 TOWER_OFFSET = 0.04  # m from a tower level's axis to each of its two planks
 PI_LEG_OFFSET = 0.045  # m from a π's axis to each leg
 TWIST = math.pi / 12  # extra turn per level of the twisted tower
-TOWER_SPACING = 0.17  # m between the axes of the 3-towers structure's towers
+TOWER_SPACING = 0.15  # m between the axes of the 3-towers structure's towers
 STRUCTURES = ("pi", "tower", "twisted", "3towers")
 #: the region the structure's site (its first plank's frame) is sampled from:
 #: x, y ranges in the world frame (in front of the two arms) and the yaw range
-SITE_X, SITE_Y, SITE_YAW = (0.56, 0.62), (-0.06, 0.06), (0.0, math.pi)
+SITE_X, SITE_Y, SITE_YAW = (0.5, 0.56), (-0.06, 0.06), (0.0, math.pi)
+#: the row of three towers runs across the table (never towards the feeds)
+ROW_YAW = (math.pi / 4, 3 * math.pi / 4)
 
 
 @dataclass(frozen=True)
@@ -72,11 +74,13 @@ class Site:
                        turn.multiply(Pose((0.0, 0.0, 0.0), tuple(quat))).quat)
 
 
-def site(seed: int) -> Site:
-    """The structure's site for ``seed``: uniform in ``SITE_X × SITE_Y × SITE_YAW``."""
+def site(seed: int, structure: str = "tower") -> Site:
+    """The structure's site for ``seed``: uniform in ``SITE_X × SITE_Y × SITE_YAW``
+    (``ROW_YAW`` for the three towers)."""
     rng = random.Random(f"keva-site:{seed}")
+    yaws = ROW_YAW if structure == "3towers" else SITE_YAW
     return Site(round(rng.uniform(*SITE_X), 4), round(rng.uniform(*SITE_Y), 4),
-                round(rng.uniform(*SITE_YAW), 4))
+                round(rng.uniform(*yaws), 4))
 
 
 def _tower(levels: int, twist: float, at: Site, cx: float = 0.0,
@@ -140,7 +144,7 @@ def roles(structure: str, levels: int, seed: int = 0) -> list[Role]:
                          f"{', '.join(STRUCTURES)}")
     if levels < 1:
         raise ValueError(f"need at least one level, got {levels}")
-    at = site(seed)
+    at = site(seed, structure)
     if structure == "pi":
         return _pi(levels, at)
     if structure == "3towers":

@@ -19,7 +19,8 @@ that order; a put-down gives the body in the hand a *role* of the structure.
 - ``.keva:bring`` — the next supply plank arrives at the outcome's feed;
 - ``.keva:pick`` — hold the plank at its grasp's nominal grip;
 - ``.keva:put`` — let go: the plank settles at the pose the hand puts it (within the IK
-  tolerance of the target) on its support.
+  tolerance of the target) on its support; then the arm backs off and returns to its
+  rest config along a planned collision-free path (out of the other arm's way).
 """
 
 from __future__ import annotations
@@ -96,6 +97,12 @@ def feed_grasp(ctx: Context, a: str, f: str) -> Iterator[tuple[Grasp, Config]]:
             yield g, config
 
 
+def aside_place(ctx: Context, a: str) -> Iterator[tuple[Pose, Config]]:
+    """The buffer spot (lying flat, either way round) for the plank in arm ``a``."""
+    world = manipulation._world(ctx, a)
+    return _put_at(world, a, feed_pose(world, "buffer"), "keva-aside")
+
+
 def table_place(ctx: Context, a: str, r: str, o: str) -> Iterator[tuple[Pose, Config]]:
     return _put(ctx, a, r, o, ())
 
@@ -119,11 +126,16 @@ def _put(ctx: Context, a: str, r: str, o: str,
         return  # the structure puts r elsewhere: no pose in this relation
     if any(body_at(world, role_pose(world, s)) is None for s in supports):
         return  # a support is not where the structure has it
+    yield from _put_at(world, a, role_pose(world, r), f"keva-place:{r}")
+
+
+def _put_at(world: PyBulletWorld, a: str, target: Pose,
+            key: str) -> Iterator[tuple[Pose, Config]]:
+    """Configs of arm ``a`` putting its plank at ``target`` up to the box's symmetry."""
     state = world.state
     if state.held is None or state.grip is None:
         return
-    target = role_pose(world, r)
-    rng = random.Random(f"keva-place:{r}:{a}")  # deterministic: see the module docstring
+    rng = random.Random(f"{key}:{a}")  # deterministic: see the module docstring
     for sym in SYMMETRIES:
         p = target.multiply(sym)
         raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
@@ -219,3 +231,17 @@ def put(ctx: Context, action: ConcreteAction) -> None:
     settled = Pose.of((held.pos[0], held.pos[1], p.pos[2]), p.quat)
     world.update(held=None, grip=None, retreat=q.pre, released=k,
                  poses=world.with_object_pose(k, settled))
+    _go_home(ctx, world, a)
+
+
+def _go_home(ctx: Context, world: PyBulletWorld, a: str) -> None:
+    """Back off and return arm ``a`` to its rest config along a collision-free planned
+    path, out of the other arm's way (if no path is found it stays where it let go)."""
+    assert world.model is not None
+    robot, base = manipulation._owner(world)
+    home = Config.of(world.model.rest, pre=world.model.rest, robot=robot, base=base)
+    for (t,) in manipulation.motion(ctx, home):
+        if not t.static_only:
+            world.select(a)
+            world.update(q=home.q, retreat=None, released=None)
+            return
