@@ -59,11 +59,15 @@ def _classes() -> tuple[ProblemClass, ...]:
               (20, 2): 351.0, (20, 3): 591.0}
     out += [ProblemClass(f"domino-n{n}k{k}", "domino", (("n", n), ("k", k)), 1.0, t)
             for (n, k), t in domino.items()]
-    # examples/keva/scene.py: write_problem(path, structure=pi|tower|twisted, levels=, seed=)
+    # examples/keva/scene.py: write_problem(path, structure=pi|tower|twisted|3towers,
+    # levels=, seed=); the seed samples the structure's site. Beyond the paper (no paper
+    # figures; its 4,000 s timeout): tower-24 and the photos' 3-towers (3 × 4 levels).
     out += [ProblemClass(name, "keva", (("structure", s), ("levels", levels)), solved, t, 4000.0)
             for name, s, levels, solved, t in (("keva-3pi", "pi", 3, 1.0, 1313.0),
                                                ("keva-tower-12", "tower", 12, 1.0, 1900.0),
-                                               ("keva-twisted-12", "twisted", 12, 0.98, 1984.0))]
+                                               ("keva-twisted-12", "twisted", 12, 0.98, 1984.0),
+                                               ("keva-tower-24", "tower", 24, None, 4000.0),
+                                               ("keva-3towers", "3towers", 4, None, 4000.0))]
     out.append(ProblemClass("aircraft", "aircraft_inspection", (), 1.0, 1457.0))
     return tuple(out)
 
