@@ -45,6 +45,7 @@ PLACE_CLEARANCE = 0.006
 PRE_PLACE = (0.1, 0.07, 0.04)
 #: accurate IK for put-downs (PyBullet's IK plateaus around 2 mm, often more)
 PLACE_IK = IkSettings(restarts=8, refinements=5, pos_tol=0.004, ang_tol=0.02)
+RETRY_IK = IkSettings(restarts=24, refinements=5, pos_tol=0.004, ang_tol=0.02)
 PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
 AT_TOL = 0.01  # m: a body within this of a feed or role position is there
 #: rotations mapping a box onto itself (identity, half turns about its axes)
@@ -104,7 +105,7 @@ def feed_grasp(ctx: Context, a: str, f: str) -> Iterator[tuple[Grasp, Config]]:
 def aside_place(ctx: Context, a: str) -> Iterator[tuple[Pose, Config]]:
     """The buffer spot (lying flat, either way round) for the plank in arm ``a``."""
     world = manipulation._world(ctx, a)
-    return _put_at(world, a, feed_pose(world, "buffer"), "keva-aside")
+    return _put_at(world, a, feed_pose(world, "buffer"), ("keva-aside", ctx.rng))
 
 
 def table_place(ctx: Context, a: str, r: str, o: str) -> Iterator[tuple[Pose, Config]]:
@@ -131,28 +132,36 @@ def _put(ctx: Context, a: str, r: str, o: str,
     if any(body_at(world, role_pose(world, s)) is None for s in supports):
         return  # a support is not where the structure has it
     turns = UPRIGHT_TURNS if o == "vertical" else ()
-    yield from _put_at(world, a, role_pose(world, r), f"keva-place:{r}", turns)
+    yield from _put_at(world, a, role_pose(world, r), (f"keva-place:{r}", ctx.rng), turns)
 
 
-def _put_at(world: PyBulletWorld, a: str, target: Pose, key: str,
+def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random.Random],
             turns: tuple[Pose, ...] = ()) -> Iterator[tuple[Pose, Config]]:
     """Configs of arm ``a`` putting its plank at ``target`` up to the box's symmetry
-    (and the extra ``turns``)."""
+    (and the extra ``turns``). IK first draws from an RNG seeded by ``seeds[0]`` and
+    the arm — same inputs, same config (see the module docstring); only if that finds
+    nothing, from the call's own RNG ``seeds[1]`` with more restarts (a retry of the
+    engine then draws fresh samples)."""
     state = world.state
     if state.held is None or state.grip is None:
         return
-    rng = random.Random(f"{key}:{a}")  # deterministic: see the module docstring
-    for sym in SYMMETRIES + tuple(t.multiply(s) for t in turns for s in SYMMETRIES[:2]):
-        p = target.multiply(sym)
-        raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
-        hand = raised.multiply(state.grip.inverse())
-        world.select(a)
-        q = solve_ik(world, hand, rng, settings=PLACE_IK)
-        pre = _pre_place(world, hand, q, rng) if q is not None else None
-        world.set_arm(state.q)
-        if q is not None and pre is not None:
-            robot, base = manipulation._owner(world)
-            yield p, Config.of(q, obj=state.held, pre=pre, robot=robot, base=base)
+    variants = SYMMETRIES + tuple(t.multiply(s) for t in turns for s in SYMMETRIES[:2])
+    found = False
+    for rng, ik in ((random.Random(f"{seeds[0]}:{a}"), PLACE_IK), (seeds[1], RETRY_IK)):
+        for sym in variants:
+            p = target.multiply(sym)
+            raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
+            hand = raised.multiply(state.grip.inverse())
+            world.select(a)
+            q = solve_ik(world, hand, rng, settings=ik)
+            pre = _pre_place(world, hand, q, rng) if q is not None else None
+            world.set_arm(state.q)
+            if q is not None and pre is not None:
+                found = True
+                robot, base = manipulation._owner(world)
+                yield p, Config.of(q, obj=state.held, pre=pre, robot=robot, base=base)
+        if found:
+            return
 
 
 def _pre_place(world: PyBulletWorld, hand: Pose, q: tuple[float, ...],
