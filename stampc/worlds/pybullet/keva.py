@@ -253,13 +253,23 @@ def put(ctx: Context, action: ConcreteAction) -> None:
 
 
 def _go_home(ctx: Context, world: PyBulletWorld, a: str) -> None:
-    """Back off and return arm ``a`` to its rest config along a collision-free planned
-    path, out of the other arm's way (if no path is found it stays where it let go)."""
+    """Back off and return arm ``a`` to its rest config, out of the other arm's way:
+    straight in joint space when that is collision-free (deterministic, so branches
+    still merge), else along an OMPL path; if neither is found it stays where it let go."""
     assert world.model is not None
     robot, base = manipulation._owner(world)
-    home = Config.of(world.model.rest, pre=world.model.rest, robot=robot, base=base)
-    for (t,) in manipulation.motion(ctx, home):
+    state = world.state
+    home = tuple(world.model.rest)
+    start = state.retreat or state.q
+    straight = Traj((state.q, start, home), released=state.released, retreat_end=1,
+                    robot=robot, base=base)
+    if manipulation.trajectory_free(ctx, straight):
+        world.select(a)
+        world.update(q=home, retreat=None, released=None)
+        return
+    goal = Config.of(home, pre=home, robot=robot, base=base)
+    for (t,) in manipulation.motion(ctx, goal):
         if not t.static_only:
             world.select(a)
-            world.update(q=home.q, retreat=None, released=None)
+            world.update(q=home, retreat=None, released=None)
             return
