@@ -71,7 +71,7 @@ def _classes() -> tuple[ProblemClass, ...]:
     out += [ProblemClass(name, "keva", (("structure", s), ("levels", levels)), None, None,
                          4000.0)
             for name, s, levels in (("keva-tower-24", "tower", 24),
-                                    ("keva-3towers", "3towers", 12))]
+                                    ("keva-3towers", "3towers", 4))]  # 3 towers x 4 levels
     # --- end of the keva rows
     out.append(ProblemClass("aircraft-2x", "aircraft_inspection", (("parts", 2),), None, None,
                             note=AIRCRAFT_NOTE + "; twice the parts (18), still 3 suspects"))

@@ -1,151 +1,108 @@
-"""Target structures, scene builder and problem generator for the keva domain.
+"""Scene builder and problem generator for the keva domain (structures: ``structures.py``).
 
-A structure is a list of *slots*, one target pose per plank, in build order
-(:func:`slots`): ``pi`` stacks ``levels`` π shapes (two planks standing upright, one
-lying across them), ``tower`` is a log-cabin tower of ``levels`` levels of two parallel
-planks (each level turned 90°), ``twisted`` turns each level a further ``twist`` rad.
-Planks are boxes of the Keva length 0.117475 m with ``pybullet_data/jenga/jenga.urdf``'s
-proportions (its 0.15 × 0.05 × 0.03 m block scaled by 0.117475 / 0.15).
+``build(structure, levels, seed)`` is the PyBullet scene: two Pandas (``left``,
+``right``) standing in for the YuMi's arms, a table with the two feed locations where
+the person puts the next plank, and a supply table out of reach where the planks wait.
+The structure's site (the first plank's pose) is sampled from ``seed``; ``meta.roles``
+holds every role's target pose, orientation and supports, ``meta.feeds`` the feed poses
+(read by ``stampc.worlds.pybullet.keva``).
 
-``build(structure, levels, seed)`` is the PyBullet scene: a Panda, a table with the two
-feed locations and the structure's site, and a supply table out of the arm's reach where
-the planks wait until they "arrive" at a feed location (``k0`` starts at feed 1).
-``meta.slots`` / ``meta.feeds`` hold the slot and feed poses that the bound functions
-(``stampc.worlds.pybullet.keva``) read. ``problem_text(...)`` writes the problem.
+``problem_text(structure, levels, seed)`` writes the problem: the goal is the
+structure's relations between roles (``structures.relations``), the initial state says
+nothing about the order. ``local=False`` drops the levels (every plank may go on any
+placed plank), for measuring what locality buys the abstract solver.
 
-    python -m examples.keva.scene --structure twisted --levels 12 -o p.stamp
+    python -m examples.keva.scene --structure twisted --levels 12 --seed 3 -o p.stamp
 """
 
 from __future__ import annotations
 
 import argparse
-import math
-from dataclasses import dataclass
 from pathlib import Path
 
-from stampc.worlds.pybullet.scenes import TABLE
-from stampc.worlds.pybullet.values import Pose, quat_from_axes, quat_from_yaw
+from examples.keva.structures import PLANK, STRUCTURES, Role, relations, roles, site
+from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 
-PLANK = (0.117475, 0.05 * 0.117475 / 0.15, 0.03 * 0.117475 / 0.15)  # length, width, thickness
-SITE = (0.5, 0.14)  # (x, y) of the structure's centre on the table
-FEEDS = {"feed1": (0.42, -0.22, 0.0), "feed2": (0.6, -0.22, 0.0)}  # x, y, yaw
-TOWER_OFFSET = 0.04  # m from a tower level's axis to each of its two planks
-PI_LEG_OFFSET = 0.045  # m from a π's axis to each leg
-TWIST = math.pi / 12  # extra turn per level of the twisted tower
-STRUCTURES = ("pi", "tower", "twisted")
-SUPPLY = {"name": "supply", "size": [0.6, 0.3, 0.05], "position": [0.0, 1.5, -0.025],
+ARMS = {"left": (0.0, 0.16), "right": (0.0, -0.16)}  # base (x, y) of the two Pandas
+#: x, y, yaw of the person's two feed locations and of the buffer (hand-over) spot
+FEEDS = {"feed1": (0.28, 0.3, 0.0), "feed2": (0.28, -0.3, 0.0), "buffer": (0.26, 0.0, 0.0)}
+TABLE = {"name": "table", "size": [0.6, 0.9, 0.05], "position": [0.55, 0.0, -0.025]}
+SUPPLY = {"name": "supply", "size": [0.6, 0.4, 0.05], "position": [-0.2, 1.6, -0.025],
           "color": [0.45, 0.45, 0.5, 1.0]}
 
 
-@dataclass(frozen=True)
-class Slot:
-    """One plank's target pose in a structure."""
-
-    name: str
-    pose: Pose
-
-
-def _flat(x: float, y: float, z: float, yaw: float) -> Pose:
-    return Pose.of((x, y, z), quat_from_yaw(yaw))
-
-
-def tower_slots(levels: int, twist: float = 0.0) -> list[Slot]:
-    """Two parallel planks per level; level ``i`` is turned by ``i (π/2 + twist)``."""
-    _, _, t = PLANK
-    out = []
-    for level in range(levels):
-        yaw = level * (math.pi / 2 + twist)
-        nx, ny = -math.sin(yaw), math.cos(yaw)  # across the planks
-        for side in (-1, 1):
-            x, y = SITE[0] + side * TOWER_OFFSET * nx, SITE[1] + side * TOWER_OFFSET * ny
-            out.append(Slot(f"s{len(out)}", _flat(x, y, t / 2 + level * t, yaw)))
-    return out
-
-
-def pi_slots(levels: int) -> list[Slot]:
-    """``levels`` stacked π shapes along y: two upright legs, then a plank across."""
-    length, _, t = PLANK
-    out = []
-    for level in range(levels):
-        base = level * (length + t)
-        for side in (-1, 1):
-            # upright leg: length along z, width along x, thickness along y with the
-            # plank's top face (the grasped one) pointing away from the other leg
-            upright = quat_from_axes((0.0, 0.0, 1.0), (side * 1.0, 0.0, 0.0),
-                                     (0.0, side * 1.0, 0.0))
-            pos = (SITE[0], SITE[1] + side * PI_LEG_OFFSET, base + length / 2)
-            out.append(Slot(f"s{len(out)}", Pose.of(pos, upright)))
-        out.append(Slot(f"s{len(out)}", _flat(SITE[0], SITE[1], base + length + t / 2,
-                                              math.pi / 2)))
-    return out
-
-
-def slots(structure: str, levels: int) -> list[Slot]:
-    if structure not in STRUCTURES:
-        raise ValueError(f"unknown structure {structure!r}; expected one of "
-                         f"{', '.join(STRUCTURES)}")
-    if levels < 1:
-        raise ValueError(f"need at least one level, got {levels}")
-    if structure == "pi":
-        return pi_slots(levels)
-    return tower_slots(levels, TWIST if structure == "twisted" else 0.0)
-
-
-def build(structure: str = "tower", levels: int = 2, seed: int = 0, *,
-          robot: str = "panda") -> dict:
-    """The PyBullet scene; ``seed`` is recorded only (the layout is fixed)."""
-    targets = slots(structure, levels)
-    length, width, t = PLANK
+def supply_position(i: int) -> list[float]:
+    """Where body ``k<i>`` waits on the supply table (rows of 4, stacks of 25)."""
     sx, sy, _ = SUPPLY["position"]
-    objects = []
-    for i in range(len(targets)):
-        if i == 0:
-            x, y, yaw = FEEDS["feed1"]
-        else:  # wait on the supply table, out of reach, in rows of 4
-            x = sx - 0.21 + 0.14 * ((i - 1) % 4)
-            y, yaw = sy - 0.1 + 0.05 * ((i - 1) // 4 % 5), 0.0
-        z = t / 2 + 0.03 * ((i - 1) // 20) if i else t / 2
-        objects.append({"name": f"k{i}", "shape": "box", "size": list(PLANK),
-                        "position": [round(x, 5), round(y, 5), round(z, 5)], "yaw": yaw,
-                        "mass": 0.02, "color": [0.85, 0.7, 0.45, 1.0]})
+    _, _, t = PLANK
+    x = sx - 0.21 + 0.14 * (i % 4)
+    y = sy - 0.15 + 0.05 * (i // 4 % 6)
+    return [round(x, 5), round(y, 5), round(t / 2 + t * 1.5 * (i // 24), 5)]
+
+
+def build(structure: str = "tower", levels: int = 2, seed: int = 0) -> dict:
+    """The PyBullet scene of instance ``(structure, levels, seed)``."""
+    targets = roles(structure, levels, seed)
+    _, _, t = PLANK
+    objects = [{"name": f"k{i}", "shape": "box", "size": list(PLANK),
+                "position": supply_position(i), "yaw": 0.0, "mass": 0.02,
+                "color": [0.85, 0.7, 0.45, 1.0]} for i in range(len(targets))]
     feeds = {name: Pose.of((x, y, t / 2), quat_from_yaw(yaw)).to_json()
              for name, (x, y, yaw) in FEEDS.items()}
+    at = site(seed, structure)
     return {
-        "robot": {"model": robot, "base": [0.0, 0.0, 0.0], "yaw": 0.0},
+        "robots": [{"name": name, "model": "panda", "base": [x, y, 0.0], "yaw": 0.0}
+                   for name, (x, y) in ARMS.items()],
         "surfaces": [dict(TABLE), dict(SUPPLY)],
         "objects": objects,
         "meta": {"domain": "keva", "structure": structure, "levels": levels, "seed": seed,
                  "plank": list(PLANK), "feeds": feeds,
-                 "slots": {s.name: s.pose.to_json() for s in targets}},
+                 "site": {"x": at.x, "y": at.y, "yaw": at.yaw},
+                 "roles": {r.name: _role_json(r) for r in targets}},
     }
 
 
-def problem_text(structure: str = "tower", levels: int = 2, seed: int = 0) -> str:
+def _role_json(role: Role) -> dict:
+    return {"pose": role.pose.to_json(), "orientation": role.orientation,
+            "supports": list(role.supports), "level": role.level, "layer": role.group}
+
+
+def problem_text(structure: str = "tower", levels: int = 2, seed: int = 0, *,
+                 local: bool = True) -> str:
     """The ``.stamp`` problem building ``structure`` (domain: ``domain.stamp``)."""
-    n = len(slots(structure, levels))
-    name = f"keva_{structure}{levels}"
-    facts = ["handempty", "at_feed(k0, feed1)", "ready(s0)", f"last_slot(s{n - 1})"]
-    facts += [f"plank_for(k{i}, s{i})" for i in range(n)]
-    facts += [f"next_slot(s{i}, s{i + 1})" for i in range(n - 1)]
-    facts += [f"next_plank(k{i}, k{i + 1})" for i in range(n - 1)]
-    lines = [f"# Build a {structure} of {levels} levels from {n} Keva planks.",
+    targets = roles(structure, levels, seed)
+    n = len(targets)
+    level_of = {r.name: (r.group if local else 0) for r in targets}
+    n_levels = max(level_of.values()) + 1
+    under = {level_of[r.name]: level_of[r.supports[0]] for r in targets if r.supports}
+    facts = ["free(left)", "free(right)", "spans(horizontal)",
+             "spans(sideways)"]
+    facts += [f"ground_level(l{g})" for g in sorted({level_of[r.name] for r in targets
+                                                      if not r.supports})]
+    facts += [f"below(l{m}, l{g})" for g, m in sorted(under.items())]
+    facts += [f"unplaced({r.name})" for r in targets]
+    facts += [f"in_level({r.name}, l{level_of[r.name]})" for r in targets]
+    facts += [f"before({a.name}, {b.name})" for i, a in enumerate(targets)
+              for b in targets[i + 1:] if level_of[a.name] == level_of[b.name]]
+    goal = [atom for r in targets for atom in relations(r)]
+    name = f"keva_{structure}{levels}_s{seed}" + ("" if local else "_flat")
+    lines = [f"# Build a {structure} of {levels} levels from {n} Keva planks (seed {seed}).",
              f"problem {name} for keva", "",
-             f"object k0..k{n - 1}: plank",
-             f"object s0..s{n - 1}: slot",
-             "object table: surface", "",
+             f"object r0..r{n - 1}: plank",
+             f"object l0..l{n_levels - 1}: level", "",
              "init " + "\n     ".join(facts), "",
-             "goal forall (s: slot) filled(s)", "",
-             f"horizon {2 * n + 2}", "",
+             "goal " + "\n     ".join(goal), "",
+             f"horizon {3 * n + 2}", "",
              f'scene builder "examples.keva.scene:build"(structure="{structure}", '
              f"levels={levels}, seed={seed})", ""]
     return "\n".join(lines)
 
 
 def write_problem(path: str | Path, structure: str = "tower", levels: int = 2,
-                  seed: int = 0) -> Path:
+                  seed: int = 0, *, local: bool = True) -> Path:
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(problem_text(structure, levels, seed), encoding="utf-8")
+    out.write_text(problem_text(structure, levels, seed, local=local), encoding="utf-8")
     return out
 
 
@@ -154,12 +111,20 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--structure", choices=STRUCTURES, default="tower")
     parser.add_argument("--levels", type=int, default=2)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--flat", action="store_true",
+                        help="no levels: any plank may go on any placed plank")
     parser.add_argument("-o", "--output", help="file to write (default: stdout)")
     args = parser.parse_args(argv)
+    try:
+        text = problem_text(args.structure, args.levels, args.seed, local=not args.flat)
+    except ValueError as exc:
+        parser.error(str(exc))
     if args.output:
-        write_problem(args.output, args.structure, args.levels, args.seed)
+        out = Path(args.output)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(text, encoding="utf-8")
     else:
-        print(problem_text(args.structure, args.levels, args.seed), end="")
+        print(text, end="")
     return 0
 
 

@@ -31,7 +31,7 @@ def test_fmt_prints_the_canonical_source(cli, checkout):
     result = cli.run("fmt", "examples/domino/domain.stamp", cwd=checkout)
     assert result.code == 0, result.err
     assert result.out == (EXAMPLES / "domino" / "domain.stamp").read_text(encoding="utf-8")
-    check = cli.run("fmt", "--check", str(EXAMPLES / "keva" / "domain.stamp"), cwd=checkout)
+    check = cli.run("fmt", "--check", str(EXAMPLES / "domino" / "domain.stamp"), cwd=checkout)
     assert check.code == 0 and check.out == ""
 
 

@@ -1,21 +1,26 @@
-"""Bound functions of the keva domain on the PyBullet world.
+"""Bound functions of the keva domain on the PyBullet world (two arms, ``left``/``right``).
 
-The scene's ``meta`` carries the structure (``slots``: slot name -> target pose) and the
-feed locations (``feeds``: feed name -> pose), see ``examples/keva/scene.py``.
+The scene's ``meta`` carries the target structure (``roles``: role name -> target pose,
+orientation, supports) and the feed locations (``feeds``), see ``examples/keva/scene.py``.
+Planks are identical bodies ``k0, k1, ...`` that the person brings from the supply in
+that order; a put-down gives the body in the hand a *role* of the structure.
 
-- ``.keva:feed_grasp(k, f)`` — top grasps of plank ``k`` lying at feed ``f``, closing
-  across its width, in a fixed order;
-- ``.keva:slot_placement(k, s)`` — the slot's target pose (or one of its symmetric
-  equivalents: a plank is a box) and an accurate IK config putting the held plank there,
-  computed deterministically from the slot and the grip (same inputs → same config, so
-  policy branches that reach the same slot share their concrete state);
-- ``.keva:pick`` — grasp: the plank is held at the *nominal* grip of its grasp;
-- ``.keva:place`` — put the plank exactly at its slot pose, then the outcome's next plank
-  arrives at its feed location (taken from the supply).
-
-After a placement the concrete state depends only on the slot filled and the feed used
-by the next plank, not on where the placed plank came from, so the engine merges the
-branches and refines each repeated sub-policy once.
+- ``.keva:feed_grasp(a, f)`` — top grasps of the plank waiting at feed ``f`` (closing
+  across its width) for arm ``a``, in a fixed order;
+- ``.keva:table_place(a, r, o)``, ``.keva:plank_place(a, r, o, j)``,
+  ``.keva:span_place(a, r, o, j, j2)`` — the put-down pose generator: the role's target
+  pose from the structure (or one of its symmetric equivalents: a plank is a box) when
+  the put-down (support, orientation) is the one the structure gives role ``r`` and its
+  supports are in place, and an accurate IK config of arm ``a`` putting the held plank
+  there. Computed deterministically from the role, arm and grip (same inputs → same
+  config), so policy branches that fill the same role share their concrete state;
+- ``.keva:motion(a, q)`` — the stdlib motion generator for arm ``a``;
+- ``.keva:blocked(t)`` — evaluator: trajectory ``t`` hits a plank;
+- ``.keva:bring`` — the next supply plank arrives at the outcome's feed;
+- ``.keva:pick`` — hold the plank at its grasp's nominal grip;
+- ``.keva:put`` — let go: the plank is set at its role's pose (the IK error of the hand,
+  ≤ 4 mm / 0.02 rad, is not simulated); then the arm backs off and returns to its rest
+  config along a planned collision-free path (out of the other arm's way).
 """
 
 from __future__ import annotations
@@ -28,56 +33,68 @@ from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation
 from stampc.worlds.pybullet.kinematics import IkSettings, solve_ik, top_grasp
-from stampc.worlds.pybullet.values import (Config, Grasp, Pose, as_config, as_pose,
-                                           quat_from_axis_angle)
+from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
+                                           as_traj, quat_from_axis_angle)
 from stampc.worlds.pybullet.world import PyBulletWorld
 
 GRASP_DEPTH = 0.008  # m the fingertips reach below the plank's top face
-#: m above the slot where the hand lets go (more than the IK tolerance, so the held
-#: plank never touches the planks below; the executor sets it down exactly)
+#: m above the target where the hand lets go (more than the IK tolerance, so the held
+#: plank never touches the planks below)
 PLACE_CLEARANCE = 0.006
 #: m above the place pose where the straight vertical approach may start (first that works)
 PRE_PLACE = (0.1, 0.07, 0.04)
-#: accurate IK for placements (PyBullet's IK plateaus around 2 mm, often more)
+#: accurate IK for put-downs (PyBullet's IK plateaus around 2 mm, often more)
 PLACE_IK = IkSettings(restarts=8, refinements=5, pos_tol=0.004, ang_tol=0.02)
+RETRY_IK = IkSettings(restarts=24, refinements=5, pos_tol=0.004, ang_tol=0.02)
 PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
+AT_TOL = 0.01  # m: a body within this of a feed or role position is there
 #: rotations mapping a box onto itself (identity, half turns about its axes)
 SYMMETRIES = (Pose((0.0, 0.0, 0.0)),
               Pose((0.0, 0.0, 0.0), quat_from_axis_angle((0.0, 0.0, 1.0), math.pi)),
               Pose((0.0, 0.0, 0.0), quat_from_axis_angle((1.0, 0.0, 0.0), math.pi)),
               Pose((0.0, 0.0, 0.0), quat_from_axis_angle((0.0, 1.0, 0.0), math.pi)))
+#: an upright plank may also stand turned a quarter about its long (local x) axis: its
+#: support relation is the same and the hand can reach it from another side
+UPRIGHT_TURNS = tuple(Pose((0.0, 0.0, 0.0), quat_from_axis_angle((1.0, 0.0, 0.0), a))
+                      for a in (math.pi / 2, -math.pi / 2))
 
 
-def _meta_pose(world: PyBulletWorld, section: str, name: str) -> Pose:
+def _meta(world: PyBulletWorld, section: str, name: str) -> Any:
     table: Mapping[str, Any] = world.spec.meta.get(section, {})
     if name not in table:
         raise StampcError([error("PB050", f"scene meta has no {section[:-1]} {name!r}",
                                  Span.point("<scene meta>"),
                                  f"build the scene with examples/keva/scene.py; known: "
                                  f"{', '.join(sorted(table)) or 'none'}")])
-    return as_pose(table[name])
+    return table[name]
 
 
-def slot_pose(world: PyBulletWorld, s: str) -> Pose:
-    return _meta_pose(world, "slots", s)
+def role_pose(world: PyBulletWorld, r: str) -> Pose:
+    return as_pose(_meta(world, "roles", r)["pose"])
 
 
 def feed_pose(world: PyBulletWorld, f: str) -> Pose:
-    return _meta_pose(world, "feeds", f)
+    return as_pose(_meta(world, "feeds", f))
 
 
-def _world(ctx: Context) -> PyBulletWorld:
-    return manipulation._world(ctx)
+def body_at(world: PyBulletWorld, target: Pose) -> str | None:
+    """The plank body whose position is within ``AT_TOL`` of ``target``'s."""
+    for name, pose in world.state.poses:
+        if math.dist(pose.pos, target.pos) <= AT_TOL:
+            return name
+    return None
 
 
 # ------------------------------------------------------------------ generators
-def feed_grasp(ctx: Context, k: str, f: str) -> Iterator[tuple[Grasp, Config]]:
-    """Top grasps of ``k`` (lying at feed ``f``) closing across its width, yaw 0 then π."""
-    world = _world(ctx)
-    manipulation._check_object(world, k)
-    feed_pose(world, f)  # a bad feed name is a located error
+def feed_grasp(ctx: Context, a: str, f: str) -> Iterator[tuple[Grasp, Config]]:
+    """Top grasps by arm ``a`` of the plank waiting at feed ``f``, yaw 0 then π."""
+    world = manipulation._world(ctx, a)
+    k = body_at(world, feed_pose(world, f))
+    if k is None:
+        return
     p = world.object_pose(k)
     for yaw in (0.0, math.pi):
+        world.select(a)
         g = top_grasp(world.geometry[k], yaw, depth=GRASP_DEPTH)
         config = manipulation._grasp_config(world, ctx, k, p, g)
         world.set_arm(world.state.q)
@@ -85,25 +102,66 @@ def feed_grasp(ctx: Context, k: str, f: str) -> Iterator[tuple[Grasp, Config]]:
             yield g, config
 
 
-def slot_placement(ctx: Context, k: str, s: str) -> Iterator[tuple[Pose, Config]]:
-    """The target pose of slot ``s`` (up to the plank's symmetry) and the config that
-    puts the held plank ``k`` there, then lets go ``PLACE_CLEARANCE`` above it."""
-    world = _world(ctx)
-    manipulation._check_object(world, k)
-    target = slot_pose(world, s)
+def aside_place(ctx: Context, a: str) -> Iterator[tuple[Pose, Config]]:
+    """The buffer spot (lying flat, either way round) for the plank in arm ``a``."""
+    world = manipulation._world(ctx, a)
+    return _put_at(world, a, feed_pose(world, "buffer"), ("keva-aside", ctx.rng))
+
+
+def table_place(ctx: Context, a: str, r: str, o: str) -> Iterator[tuple[Pose, Config]]:
+    return _put(ctx, a, r, o, ())
+
+
+def plank_place(ctx: Context, a: str, r: str, o: str, j: str) -> Iterator[tuple[Pose, Config]]:
+    return _put(ctx, a, r, o, (j,))
+
+
+def span_place(ctx: Context, a: str, r: str, o: str, j: str,
+               j2: str) -> Iterator[tuple[Pose, Config]]:
+    return _put(ctx, a, r, o, (j, j2))
+
+
+def _put(ctx: Context, a: str, r: str, o: str,
+         supports: tuple[str, ...]) -> Iterator[tuple[Pose, Config]]:
+    """The target pose of role ``r`` (up to the plank's symmetry) and the config of arm
+    ``a`` that puts the held plank there, letting go ``PLACE_CLEARANCE`` above it."""
+    world = manipulation._world(ctx, a)
+    role = _meta(world, "roles", r)
+    if role["orientation"] != o or sorted(role["supports"]) != sorted(supports):
+        return  # the structure puts r elsewhere: no pose in this relation
+    if any(body_at(world, role_pose(world, s)) is None for s in supports):
+        return  # a support is not where the structure has it
+    turns = UPRIGHT_TURNS if o == "vertical" else ()
+    yield from _put_at(world, a, role_pose(world, r), (f"keva-place:{r}", ctx.rng), turns)
+
+
+def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random.Random],
+            turns: tuple[Pose, ...] = ()) -> Iterator[tuple[Pose, Config]]:
+    """Configs of arm ``a`` putting its plank at ``target`` up to the box's symmetry
+    (and the extra ``turns``). IK first draws from an RNG seeded by ``seeds[0]`` and
+    the arm — same inputs, same config (see the module docstring); only if that finds
+    nothing, from the call's own RNG ``seeds[1]`` with more restarts (a retry of the
+    engine then draws fresh samples)."""
     state = world.state
-    if state.held != k or state.grip is None:
+    if state.held is None or state.grip is None:
         return
-    rng = random.Random(f"keva-place:{s}")  # deterministic: see the module docstring
-    for sym in SYMMETRIES:
-        p = target.multiply(sym)
-        raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
-        hand = raised.multiply(state.grip.inverse())
-        q = solve_ik(world, hand, rng, settings=PLACE_IK)
-        pre = _pre_place(world, hand, q, rng) if q is not None else None
-        world.set_arm(state.q)
-        if q is not None and pre is not None:
-            yield p, Config.of(q, obj=k, pre=pre)
+    variants = SYMMETRIES + tuple(t.multiply(s) for t in turns for s in SYMMETRIES[:2])
+    found = False
+    for rng, ik in ((random.Random(f"{seeds[0]}:{a}"), PLACE_IK), (seeds[1], RETRY_IK)):
+        for sym in variants:
+            p = target.multiply(sym)
+            raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
+            hand = raised.multiply(state.grip.inverse())
+            world.select(a)
+            q = solve_ik(world, hand, rng, settings=ik)
+            pre = _pre_place(world, hand, q, rng) if q is not None else None
+            world.set_arm(state.q)
+            if q is not None and pre is not None:
+                found = True
+                robot, base = manipulation._owner(world)
+                yield p, Config.of(q, obj=state.held, pre=pre, robot=robot, base=base)
+        if found:
+            return
 
 
 def _pre_place(world: PyBulletWorld, hand: Pose, q: tuple[float, ...],
@@ -117,39 +175,101 @@ def _pre_place(world: PyBulletWorld, hand: Pose, q: tuple[float, ...],
     return None
 
 
+def motion(ctx: Context, a: str, q: Config) -> Iterator[tuple[Traj]]:
+    """Trajectories of arm ``a`` to ``q`` (``q`` must be one of ``a``'s configs): the
+    stdlib's, without fallback paths that hit no plank (they hit the other arm, which
+    the ``blocked`` evaluator could not report)."""
+    q = as_config(q)
+    if q.robot is not None and q.robot != a:
+        return
+    for (t,) in manipulation.motion(ctx, q):
+        if not t.static_only or blocked(ctx, t):
+            yield (t,)
+
+
+def blocked(ctx: Context, t: Traj) -> bool:
+    """Whether trajectory ``t`` (its arm and held plank) hits a plank."""
+    return bool(manipulation.blocking_objects(ctx, as_traj(t)))
+
+
 # ------------------------------------------------------------------ executors
+def bring(ctx: Context, action: ConcreteAction) -> None:
+    """The person puts the next supply plank (lowest index) at the outcome's feed."""
+    world = manipulation._world(ctx)
+    feeds = [str(args[0]) for name, args in action.adds if name == "waiting"]
+    supply = _meta_supply(world)
+    for f in feeds:
+        k = next((n for n, pose in world.state.poses if n in supply
+                  and math.dist(pose.pos, supply[n]) <= AT_TOL), None)
+        if k is None:
+            raise StampcError([error("PB051", "the supply has no plank left to bring",
+                                     Span.point("<scene meta>"),
+                                     "give the scene one plank per role")])
+        world.update(poses=world.with_object_pose(k, feed_pose(world, f)))
+
+
+def _meta_supply(world: PyBulletWorld) -> dict[str, tuple[float, ...]]:
+    """Where each plank body starts (on the supply table)."""
+    return {o.name: tuple(o.position) for o in world.spec.objects}
+
+
 def pick(ctx: Context, action: ConcreteAction) -> None:
-    """Move to the grasp config; hold ``k`` at the grasp's nominal grip."""
-    world = _world(ctx)
-    k = str(manipulation._arg(action, "k"))
+    """Move arm ``a`` to the grasp config; hold the plank at the grasp's nominal grip."""
     q = as_config(manipulation._arg(action, "q"))
+    a = str(manipulation._arg(action, "a"))
+    world = manipulation._world(ctx, a)
     g = manipulation._arg(action, "g")
+    k = q.obj
+    if k is None:
+        raise StampcError([error("PB052", "the grasp config names no plank",
+                                 Span.point("<world>"), "use .keva:feed_grasp")])
     manipulation._check_object(world, k)
     world.update(q=q.q, retreat=None, released=None)
-    if any(name == "holding" and k in args for name, args in action.adds):
-        hand = g.hand if isinstance(g, Grasp) else as_pose(g["hand"])  # type: ignore[index]
-        world.update(held=k, grip=hand.inverse(), retreat=q.pre)
-    else:
-        world.update(retreat=q.pre, released=k)
+    hand = g.hand if isinstance(g, Grasp) else as_pose(g["hand"])  # type: ignore[index]
+    world.update(held=k, grip=hand.inverse(), retreat=q.pre)
 
 
-def place(ctx: Context, action: ConcreteAction) -> None:
-    """Put ``k`` exactly at ``p``; the outcome's next plank arrives at its feed."""
-    world = _world(ctx)
-    k = str(manipulation._arg(action, "k"))
-    p = as_pose(manipulation._arg(action, "p"))
+def put(ctx: Context, action: ConcreteAction) -> None:
+    """Let go of the held plank at config ``q``: it is set at ``p`` — at the role's (or
+    buffer's) canonical pose when ``p`` is one of its box-symmetric equivalents, so every
+    branch that fills a role reaches the same concrete state; the IK error of the hand
+    (≤ 4 mm, 0.02 rad, ``PLACE_IK``) is not simulated."""
     q = as_config(manipulation._arg(action, "q"))
-    manipulation._check_object(world, k)
+    p = as_pose(manipulation._arg(action, "p"))
+    a = str(manipulation._arg(action, "a"))
+    world = manipulation._world(ctx, a)
     world.update(q=q.q, retreat=None, released=None)
-    if world.state.held != k:
+    k = world.state.held
+    if k is None:
         world.update(retreat=q.pre)
         return
-    poses = dict(world.state.poses)
-    poses[k] = p
-    for name, args in action.adds:
-        if name == "at_feed":
-            plank, feed = str(args[0]), str(args[1])
-            manipulation._check_object(world, plank)
-            poses[plank] = feed_pose(world, feed)
+    r = action.args.get("r")
+    target = role_pose(world, str(r)) if r is not None else feed_pose(world, "buffer")
+    settled = target if any(target.multiply(s).distance(p) < 1e-6
+                            and target.multiply(s).angle(p) < 1e-6 for s in SYMMETRIES) else p
     world.update(held=None, grip=None, retreat=q.pre, released=k,
-                 poses=tuple((n, poses[n]) for n, _ in world.state.poses))
+                 poses=world.with_object_pose(k, settled))
+    _go_home(ctx, world, a)
+
+
+def _go_home(ctx: Context, world: PyBulletWorld, a: str) -> None:
+    """Back off and return arm ``a`` to its rest config, out of the other arm's way:
+    straight in joint space when that is collision-free (deterministic, so branches
+    still merge), else along an OMPL path; if neither is found it stays where it let go."""
+    assert world.model is not None
+    robot, base = manipulation._owner(world)
+    state = world.state
+    home = tuple(world.model.rest)
+    start = state.retreat or state.q
+    straight = Traj((state.q, start, home), released=state.released, retreat_end=1,
+                    robot=robot, base=base)
+    if manipulation.trajectory_free(ctx, straight):
+        world.select(a)
+        world.update(q=home, retreat=None, released=None)
+        return
+    goal = Config.of(home, pre=home, robot=robot, base=base)
+    for (t,) in manipulation.motion(ctx, goal):
+        if not t.static_only:
+            world.select(a)
+            world.update(q=home, retreat=None, released=None)
+            return
