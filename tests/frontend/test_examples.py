@@ -77,13 +77,13 @@ def test_domino_topple_probabilities_fall_with_distance() -> None:
 
 def test_keva_feed_outcomes_sum_to_one() -> None:
     m = model("keva")
-    place = next(a for a in m.domain.actions if a.name == "place_plank")
-    assert sum(o.probability for o in outcomes(place.effect)) == 1
-    assert [o.label for o in outcomes(place.effect)] == ["feed1", "feed2"]
-    assert ir.GeneratorUse("slot_placement", ("k", "s"), ("p", "q")) in place.generated
+    bring = next(a for a in m.domain.actions if a.name == "bring")
+    assert sum(o.probability for o in outcomes(bring.effect)) == 1
+    assert [o.label for o in outcomes(bring.effect)] == ["feed1", "feed2"]
+    assert [float(o.probability) for o in outcomes(bring.effect)] == [0.8, 0.2]  # the paper
     # feeds are named places (a discrete type); their poses live in the scene
-    assert {c.name: (c.type, c.symbolic) for c in m.domain.constants} == {
-        "feed1": ("feed", False), "feed2": ("feed", False)}
+    assert {c.name: c.type for c in m.domain.constants if c.type == "feed"} == {
+        "feed1": "feed", "feed2": "feed", "buffer": "feed"}
 
 
 def test_aircraft_battery_is_optimistically_true() -> None:
