@@ -10,6 +10,7 @@ plain nested trees (format: docs/ir.md).
 
 from __future__ import annotations
 
+from itertools import repeat
 from typing import Any, Callable, Sequence, TypeVar
 
 from stampc.ir import lifted as L
@@ -35,7 +36,7 @@ def fold(root: N, children: Callable[[N], Sequence[N]], combine: Callable[[N, li
         if kids is None:
             kids = children(node)
             stack.append((node, kids))
-            stack.extend((k, None) for k in reversed(kids))
+            stack.extend(zip(reversed(kids), repeat(None)))
             continue
         cut = len(results) - len(kids)
         args = results[cut:]
