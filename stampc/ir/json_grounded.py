@@ -21,30 +21,55 @@ from stampc.ir.json_model import Write, compact, write_items
 
 
 # ----------------------------------------------------------------- bitmasks
+#: The highest bits of a mask are peeled off one at a time (each costs one pass over the
+#: mask); past this many, the rest is read word by word (one pass in all).
+_SPARSE = 64
+
+
 def bits_to_list(mask: int) -> list[int]:
-    """Indices of the set bits of ``mask``, ascending."""
+    """Indices of the set bits of ``mask``, ascending.
+
+    Never quadratic in the mask's size: a shift-by-32 loop would be, and large models
+    have, in every action, masks whose few bits sit near fact 165,000.
+    """
+    top_bits: list[int] = []
+    while mask and len(top_bits) < _SPARSE:
+        top = mask.bit_length() - 1
+        top_bits.append(top)
+        mask ^= 1 << top
+    out = _dense_bits(mask) if mask else []
+    out.extend(reversed(top_bits))
+    return out
+
+
+def _dense_bits(mask: int) -> list[int]:
     out: list[int] = []
-    i = 0
-    while mask:
-        low = mask & 0xFFFFFFFF  # 32-bit chunks keep this linear in the mask size
-        while low:
-            b = low & -low
-            out.append(i + b.bit_length() - 1)
-            low ^= b
-        mask >>= 32
-        i += 32
+    words = memoryview(mask.to_bytes((mask.bit_length() + 63) // 64 * 8, "little")).cast("Q")
+    for k, word in enumerate(words):
+        base = 64 * k
+        while word:
+            low = word & -word
+            out.append(base + low.bit_length() - 1)
+            word ^= low
     return out
 
 
 def list_to_bits(indices: Any, n_facts: int | None = None) -> int:
     """Inverse of :func:`bits_to_list`; checks indices against ``n_facts`` when given."""
-    mask = 0
-    for i in _list(indices):
+    indices = _list(indices)
+    for i in indices:
         if isinstance(i, bool) or not isinstance(i, int) or i < 0 or \
                 (n_facts is not None and i >= n_facts):
             raise ValueError(f"invalid fact index {i!r}")
-        mask |= 1 << i
-    return mask
+    if len(indices) <= _SPARSE:
+        mask = 0
+        for i in indices:
+            mask |= 1 << i
+        return mask
+    raw = bytearray((max(indices) >> 3) + 1)
+    for i in indices:
+        raw[i >> 3] |= 1 << (i & 7)
+    return int.from_bytes(raw, "little")
 
 
 def _list(x: Any) -> list:

@@ -19,6 +19,7 @@ from typing import Any, Callable, TextIO, TypeVar
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir import lifted as L
+from stampc.ir.gc_pause import gc_paused
 from stampc.ir.grounded import GroundModel
 from stampc.ir.json_grounded import bits_to_list, list_to_bits, read_grounded, write_grounded
 from stampc.ir.json_model import read_lifted, write_lifted
@@ -71,7 +72,8 @@ def _header(kind: str) -> dict:
 # ------------------------------------------------------------------ writing
 def write_lifted_json(model: L.Model, out: TextIO) -> None:
     """Stream the lifted document of ``model`` to ``out`` (one action per line)."""
-    write_lifted(model, _header("lifted"), out.write)
+    with gc_paused():
+        write_lifted(model, _header("lifted"), out.write)
     out.write("\n")
 
 
@@ -79,8 +81,9 @@ def write_grounded_json(gm: GroundModel, out: TextIO, *, include_lifted: bool = 
     """Stream the grounded document of ``gm`` to ``out``; embeds the lifted model (if any)
     unless told not to."""
     lifted = gm.lifted if include_lifted else None
-    write_grounded(gm, _header("grounded"), out.write, None if lifted is None else
-                   lambda: write_lifted(lifted, _header("lifted"), out.write))
+    with gc_paused():
+        write_grounded(gm, _header("grounded"), out.write, None if lifted is None else
+                       lambda: write_lifted(lifted, _header("lifted"), out.write))
 
 
 def lifted_to_json(model: L.Model) -> dict:
@@ -101,7 +104,8 @@ def grounded_to_json(gm: GroundModel, *, include_lifted: bool = True) -> dict:
 def lifted_from_json(data: dict, *, source: str = "<json>") -> L.Model:
     """Inverse of :func:`lifted_to_json`; ``source`` names the file in diagnostics."""
     _check_header(data, "lifted", source)
-    return _decode("lifted", source, lambda: read_lifted(data))
+    with gc_paused():
+        return _decode("lifted", source, lambda: read_lifted(data))
 
 
 def grounded_from_json(data: dict, *, source: str = "<json>") -> GroundModel:
@@ -109,7 +113,8 @@ def grounded_from_json(data: dict, *, source: str = "<json>") -> GroundModel:
     _check_header(data, "grounded", source)
     lifted = data.get("lifted")
     model = None if lifted is None else lifted_from_json(lifted, source=source)
-    return _decode("grounded", source, lambda: read_grounded(data, model))
+    with gc_paused():
+        return _decode("grounded", source, lambda: read_grounded(data, model))
 
 
 def read_ir_json(path: str | Path) -> L.Model | GroundModel:
@@ -120,7 +125,8 @@ def read_ir_json(path: str | Path) -> L.Model | GroundModel:
     source = str(path)
     with open(path, encoding="utf-8") as f:
         try:
-            data = json.load(f)
+            with gc_paused():
+                data = json.load(f)
         except (ValueError, RecursionError) as exc:  # RecursionError: absurd nesting
             raise StampcError([error("G192", f"not a JSON IR document: {exc}",
                                      Span.point(source))]) from None

@@ -11,6 +11,7 @@ from fractions import Fraction
 
 from stampc.diagnostics import Diagnostic, Span, StampcError
 from stampc.ir import lifted as ir
+from stampc.ir.gc_pause import gc_paused
 from stampc.semantics.analysis import domain_facts, optimistic_values
 from stampc.semantics.api import LoadedProgram
 from stampc.semantics.check_problem import ProblemInfo
@@ -29,6 +30,11 @@ class _Unlowerable(Exception):
 
 def lower(loaded: LoadedProgram) -> ir.Model:
     """Domain + problem → :class:`lifted.Model`; raises :class:`StampcError` on errors."""
+    with gc_paused():  # see stampc.ir.gc_pause: the collector made lowering non-linear
+        return _lower(loaded)
+
+
+def _lower(loaded: LoadedProgram) -> ir.Model:
     _require_clean(loaded)
     if loaded.problem is None or loaded.domain is None:
         span = loaded.domain.span if loaded.domain else Span.point("<input>")
