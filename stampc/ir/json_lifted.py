@@ -23,7 +23,7 @@ J = dict[str, Any]
 
 # ----------------------------------------------------------------- scalars
 def frac_to(x: Fraction) -> str:
-    return str(Fraction(x))
+    return str(x) if type(x) is Fraction else str(Fraction(x))
 
 
 def frac_from(s: Any) -> Fraction:

@@ -6,9 +6,7 @@ import io
 import json
 from dataclasses import fields, is_dataclass
 from fractions import Fraction as F
-from pathlib import Path
 
-import pytest
 from ir_builders import EFF, action, add, atom, model, params, pred
 
 from stampc.ir import lifted as L
@@ -20,8 +18,6 @@ from stampc.ir.json_io import (grounded_from_json, grounded_to_json, lifted_from
 from stampc.ir.json_tree import SPILL_HEIGHT
 
 DEPTH = 10_000
-SYSADMIN = (Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "ppddl"
-            / "ippc2008-sysadmin-slp")
 
 
 def deep_equal(a: object, b: object) -> bool:
@@ -115,11 +111,10 @@ def test_10000_deep_grounded_formulas_and_effects_round_trip():
     assert buf.getvalue().count('"t":"cond"') == 2  # the shared one and the goal's
 
 
-def test_shared_sub_effects_are_written_once_and_shared_again_on_load():
-    if not SYSADMIN.is_dir():
-        pytest.skip(f"benchmarks not found at {SYSADMIN}")
+def test_shared_sub_effects_are_written_once_and_shared_again_on_load(ppddl_benchmarks):
     from stampc.backends.ppddl.importer import import_ppddl
-    gm = ground(import_ppddl(SYSADMIN / "domain.pddl", SYSADMIN / "p05-n12-l6-s5.pddl"))
+    sysadmin = ppddl_benchmarks / "ippc2008-sysadmin-slp"
+    gm = ground(import_ppddl(sysadmin / "domain.pddl", sysadmin / "p05-n12-l6-s5.pddl"))
     data = grounded_to_json(gm, include_lifted=False)
     blocks_per_action = len(gm.actions[0].effect.blocks)
     distinct_blocks = {id(b) for a in gm.actions for b in a.effect.blocks}
