@@ -23,6 +23,7 @@ from stampc.ir.gc_pause import gc_paused
 from stampc.ir.grounded import GroundModel
 from stampc.ir.json_grounded import bits_to_list, list_to_bits, read_grounded, write_grounded
 from stampc.ir.json_model import read_lifted, write_lifted
+from stampc.ir.json_v1 import V1, upgrade
 
 __all__ = ["lifted_to_json", "lifted_from_json", "grounded_to_json", "grounded_from_json",
            "write_lifted_json", "write_grounded_json", "read_ir_json",
@@ -30,27 +31,25 @@ __all__ = ["lifted_to_json", "lifted_from_json", "grounded_to_json", "grounded_f
 
 T = TypeVar("T")
 
-#: Versions that used another layout; loading them says how to migrate (docs/ir.md).
-_OLD_VERSIONS = {"1.0": "IR 1.0 (stampc before the factored node table)"}
-
-
-def _check_header(data: Any, kind: str, source: str) -> None:
+def _check_header(data: Any, kind: str, source: str) -> Any:
+    """``data`` as a current document of ``kind`` (1.0 documents are upgraded)."""
     span = Span.point(source)
     if not isinstance(data, dict):
         raise StampcError([error("G192", f"expected a JSON object for the {kind} IR, "
                                  f"got {type(data).__name__}", span)])
     version = data.get("ir_version")
-    if version != L.IR_VERSION:
-        what = _OLD_VERSIONS.get(version) if isinstance(version, str) else None
-        detail = f" ({what})" if what else ""
+    if version not in (L.IR_VERSION, V1):
         raise StampcError([error(
-            "G190", f"unsupported IR version {version!r}{detail}; this stampc reads "
-            f"{L.IR_VERSION!r}", span,
+            "G190", f"unsupported IR version {version!r} (this stampc reads "
+            f"{L.IR_VERSION!r} and {V1!r})", span,
             "recompile the source with `stampc compile --target ir` "
             "(docs/ir.md, 'Format versions')")])
     if data.get("kind") != kind:
         raise StampcError([error("G191", f"expected a {kind!r} IR document, "
                                  f"got kind {data.get('kind')!r}", span)])
+    if version == V1:
+        return _decode(kind, source, lambda: upgrade(data, L.IR_VERSION))
+    return data
 
 
 def _decode(kind: str, source: str, fn: Callable[[], T]) -> T:
@@ -103,14 +102,14 @@ def grounded_to_json(gm: GroundModel, *, include_lifted: bool = True) -> dict:
 # ------------------------------------------------------------------ reading
 def lifted_from_json(data: dict, *, source: str = "<json>") -> L.Model:
     """Inverse of :func:`lifted_to_json`; ``source`` names the file in diagnostics."""
-    _check_header(data, "lifted", source)
+    data = _check_header(data, "lifted", source)
     with gc_paused():
         return _decode("lifted", source, lambda: read_lifted(data))
 
 
 def grounded_from_json(data: dict, *, source: str = "<json>") -> GroundModel:
     """Inverse of :func:`grounded_to_json`; ``source`` names the file in diagnostics."""
-    _check_header(data, "grounded", source)
+    data = _check_header(data, "grounded", source)
     lifted = data.get("lifted")
     model = None if lifted is None else lifted_from_json(lifted, source=source)
     with gc_paused():

@@ -12,6 +12,8 @@ from test_ground_generators import pick_place
 from stampc.diagnostics import Span, StampcError
 from stampc.ir import lifted as L
 from stampc.ir.ground import ground
+from stampc.ir.grounded import (GAnd, GEffect, GLit, GOr, GProb, GroundAction, GroundAtom,
+                                GroundCondition, GroundModel)
 from stampc.ir.json_io import (bits_to_list, grounded_from_json, grounded_to_json,
                                lifted_from_json, lifted_to_json, list_to_bits, read_ir_json,
                                write_grounded_json, write_lifted_json)
@@ -143,13 +145,47 @@ def test_version_kind_and_malformed_documents_are_diagnostics():
     assert exc.value.diagnostics[0].code == "G192"
 
 
-def test_version_1_documents_get_a_migration_hint():
+def test_unknown_versions_get_a_migration_hint():
     gdata = grounded_to_json(ground(model(preds=(pred("p"),),
                                           actions=(action("a", (), L.TRUE, add("p")),))))
     with pytest.raises(StampcError) as exc:
-        grounded_from_json({**gdata, "ir_version": "1.0"}, source="old.json")
+        grounded_from_json({**gdata, "ir_version": "3.0"}, source="new.json")
     (d,) = exc.value.diagnostics
-    assert d.code == "G190" and "1.0" in d.message and "stampc compile" in d.hint
+    assert d.code == "G190" and "3.0" in d.message and "stampc compile" in d.hint
+
+
+def test_version_1_documents_still_load():
+    """A grounded 1.0 document (conditions and effects inline) as stampc 1.0 wrote it."""
+    facts = (GroundAtom("p", ()), GroundAtom("q", ("a",)), GroundAtom("r", ()))
+    cond = GroundCondition(pos=0b1, rest=(GOr((GLit(1), GAnd((GLit(2, False), GLit(0))))),))
+    effect = GEffect(add=0b10, delete=0b1, cost=F(1, 2), unknown=0b100,
+                     whens=((cond, GEffect(add=0b100)),),
+                     blocks=(GProb(((F(1, 3), GEffect(delete=0b10)),
+                                    (F(1, 2), GEffect(whens=((cond, GEffect(add=0b1)),))))),))
+    gm = GroundModel(facts, (GroundAction(0, "act", ("a",), cond, effect, F(2), schema=0),),
+                     0b1, GroundCondition(neg=0b100), (("a", "thing"),),
+                     (GroundAtom("s", ("a",)),), horizon=7, has_costs=True)
+    v1_cond = {"pos": [0], "rest": [{"or": [{"lit": 1}, {"and": [{"not": 2}, {"lit": 0}]}]}]}
+    v1 = {"ir_version": "1.0", "kind": "grounded",
+          "facts": [["p", []], ["q", ["a"]], ["r", []]],
+          "actions": [{"index": 0, "name": "act", "args": ["a"], "schema": 0, "pre": v1_cond,
+                       "effect": {"add": [1], "del": [0], "unknown": [2], "cost": "1/2",
+                                  "whens": [[v1_cond, {"add": [2]}]],
+                                  "blocks": [[["1/3", {"del": [1]}],
+                                              ["1/2", {"whens": [[v1_cond, {"add": [0]}]]}]]]},
+                       "base_cost": "2", "generated": []}],
+          "init": [0], "goal": {"neg": [2]}, "objects": [["a", "thing"]],
+          "static_facts": [["s", ["a"]]], "horizon": 7, "has_costs": True,
+          "lifted": {**lifted_to_json(rich_model()), "ir_version": "1.0"}}
+    for key in ("subtrees",):
+        del v1["lifted"][key]
+    back = grounded_from_json(json.loads(json.dumps(v1)))
+    assert back == gm and back.lifted == rich_model()
+    assert back.actions[0].precondition is back.actions[0].effect.whens[0][0]  # merged nodes
+    broken = {**v1, "actions": [{**v1["actions"][0], "pre": {"rest": [{"and": 5}]}}]}
+    with pytest.raises(StampcError) as exc:
+        grounded_from_json(broken, source="old.json")
+    assert exc.value.diagnostics[0].code == "G192"
 
 
 def _one_action_document() -> dict:
