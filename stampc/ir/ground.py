@@ -16,7 +16,7 @@ with Skolem symbols appended in name order. Semantics are documented in docs/ir.
 from __future__ import annotations
 
 from stampc.ir import lifted as L
-from stampc.ir.gc_pause import gc_paused
+from stampc.syntax.gcpause import no_gc_pauses
 from stampc.ir.ground_context import AtomKey, GroundingContext
 from stampc.ir.grounded import GroundAction, GroundAtom, GroundModel
 from stampc.ir.instantiate import ActionInstance, EffectGrounder, instantiate
@@ -37,7 +37,7 @@ def ground(model: L.Model, *, max_symbol_depth: int = DEFAULT_MAX_SYMBOL_DEPTH,
     symbols; more than ``max_actions`` reachable action bindings is an error (G114)
     rather than an out-of-memory crash (see :mod:`stampc.ir.reachability`).
     """
-    with gc_paused():
+    with no_gc_pauses():  # acyclic trees only; the collector's rescans grew with the model
         return _ground(model, max_symbol_depth, max_actions)
 
 

@@ -19,7 +19,7 @@ from typing import Any, Callable, TextIO, TypeVar
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir import lifted as L
-from stampc.ir.gc_pause import gc_paused
+from stampc.syntax.gcpause import no_gc_pauses
 from stampc.ir.grounded import GroundModel
 from stampc.ir.json_grounded import bits_to_list, list_to_bits, read_grounded, write_grounded
 from stampc.ir.json_model import read_lifted, write_lifted
@@ -71,7 +71,7 @@ def _header(kind: str) -> dict:
 # ------------------------------------------------------------------ writing
 def write_lifted_json(model: L.Model, out: TextIO) -> None:
     """Stream the lifted document of ``model`` to ``out`` (one action per line)."""
-    with gc_paused():
+    with no_gc_pauses():
         write_lifted(model, _header("lifted"), out.write)
     out.write("\n")
 
@@ -80,7 +80,7 @@ def write_grounded_json(gm: GroundModel, out: TextIO, *, include_lifted: bool = 
     """Stream the grounded document of ``gm`` to ``out``; embeds the lifted model (if any)
     unless told not to."""
     lifted = gm.lifted if include_lifted else None
-    with gc_paused():
+    with no_gc_pauses():
         write_grounded(gm, _header("grounded"), out.write, None if lifted is None else
                        lambda: write_lifted(lifted, _header("lifted"), out.write))
 
@@ -103,7 +103,7 @@ def grounded_to_json(gm: GroundModel, *, include_lifted: bool = True) -> dict:
 def lifted_from_json(data: dict, *, source: str = "<json>") -> L.Model:
     """Inverse of :func:`lifted_to_json`; ``source`` names the file in diagnostics."""
     data = _check_header(data, "lifted", source)
-    with gc_paused():
+    with no_gc_pauses():
         return _decode("lifted", source, lambda: read_lifted(data))
 
 
@@ -112,7 +112,7 @@ def grounded_from_json(data: dict, *, source: str = "<json>") -> GroundModel:
     data = _check_header(data, "grounded", source)
     lifted = data.get("lifted")
     model = None if lifted is None else lifted_from_json(lifted, source=source)
-    with gc_paused():
+    with no_gc_pauses():
         return _decode("grounded", source, lambda: read_grounded(data, model))
 
 
@@ -124,7 +124,7 @@ def read_ir_json(path: str | Path) -> L.Model | GroundModel:
     source = str(path)
     with open(path, encoding="utf-8") as f:
         try:
-            with gc_paused():
+            with no_gc_pauses():
                 data = json.load(f)
         except (ValueError, RecursionError) as exc:  # RecursionError: absurd nesting
             raise StampcError([error("G192", f"not a JSON IR document: {exc}",
