@@ -11,6 +11,8 @@ which keeps ``load(dump(x)) == x``.
 
 from __future__ import annotations
 
+from itertools import compress, repeat
+from operator import is_
 from typing import Any, Callable, Sequence
 
 from stampc.ir.grounded import (
@@ -93,6 +95,11 @@ def _children(obj: Any) -> Sequence[Any]:
     return ()
 
 
+#: Reference lists that may hold ``seq`` nodes; runs average ``_CHUNK`` references.
+_LISTS = ("whens", "blocks", "rest", "args")
+_CHUNK = 16
+
+
 def _masks(out: J, *pairs: tuple[str, int]) -> J:
     for key, mask in pairs:
         if mask:
@@ -107,6 +114,8 @@ class NodeWriter:
         self.emit = emit
         self.by_id: dict[int, int] = {}  # id(object) -> node; objects outlive the writer
         self.by_text: dict[str, int] = {}
+        self._seqs: dict[tuple[int, ...], int] = {}
+        self._cut: list[bool] = []  # per node: does a run end after it?
 
     def intern(self, root: Any) -> int:
         by_id = self.by_id
@@ -120,11 +129,42 @@ class NodeWriter:
             refs = list(map(by_id.get, map(id, kids)))  # C loops: effects have 1000s of kids
             if None in refs:
                 # reversed: nodes get ascending numbers in child order
-                stack.extend(reversed([k for k, r in zip(kids, refs) if r is None]))
+                stack.extend(reversed(list(compress(kids, map(is_, refs, repeat(None))))))
                 continue
             stack.pop()
-            by_id[id(obj)] = self._add(compact(_node(obj, refs)))
+            node = _node(obj, refs)
+            for key in _LISTS:
+                if len(node.get(key, ())) > 2 * _CHUNK:
+                    node[key] = self._chunked(node[key])
+            by_id[id(obj)] = self._add(compact(node))
         return by_id[id(root)]
+
+    def _chunked(self, refs: list[int]) -> list[int]:
+        """``refs`` with runs replaced by ``seq`` nodes, cut where the content says.
+
+        A cut falls after each reference whose hash is 0 mod ``_CHUNK``, so a list that
+        differs from another in a few places (SysAdmin: each action's blocks minus the
+        rebooted computer's) shares every run that avoids those places: SysAdmin p14's
+        2.8 million references become about 0.2 million.
+        """
+        cut = self._cut
+        while len(cut) < len(self.by_text):
+            cut.append((len(cut) * 2654435761 >> 8) % _CHUNK == 0)
+        ends = list(compress(range(1, len(refs) + 1), map(cut.__getitem__, refs)))
+        if not ends or ends[-1] != len(refs):
+            ends.append(len(refs))
+        out, start = [], 0
+        for end in ends:
+            run = tuple(refs[start:end])
+            start = end
+            if len(run) == 1:
+                out.append(run[0])
+                continue
+            ref = self._seqs.get(run)
+            if ref is None:
+                ref = self._seqs[run] = self._add(compact({"t": "seq", "items": run}))
+            out.append(ref)
+        return out
 
     def _add(self, text: str) -> int:
         node = self.by_text.get(text)
@@ -211,6 +251,13 @@ def write_grounded(gm: GroundModel, header: J, write: Write,
 
 
 # ------------------------------------------------------------------ reading
+class _Seq(tuple):
+    """A ``seq`` node: a run of references spliced into the list that names it."""
+
+
+_ANY_NODE = (GLit, GAnd, GOr, GroundCondition, tuple, GProb, GEffect)
+
+
 class NodeReader:
     """Builds the node table's objects in order (each node refers only backwards)."""
 
@@ -236,9 +283,23 @@ class NodeReader:
             raise ValueError("node reference out of range")
         objs = self.objs
         out = tuple([objs[r] for r in refs])
+        if _Seq in set(map(type, out)):  # splice the runs in
+            flat: list = []
+            for o in out:
+                if type(o) is _Seq:
+                    flat.extend(o)
+                else:
+                    flat.append(o)
+            out = tuple(flat)
         if not all(type(o) in kinds for o in out):
             raise ValueError(f"a reference does not point at a {kinds[0].__name__}")
         return out
+
+    def _seq(self, items: Any) -> _Seq:
+        run = self._many(items, _ANY_NODE)
+        if len(run) < 2:
+            raise ValueError("a seq node needs two or more items")
+        return _Seq(run)
 
     def _node(self, x: J) -> Any:
         tag = x["t"]
@@ -266,6 +327,8 @@ class NodeReader:
             return GProb(tuple((frac_from(p), self.get(e, GEffect)) for p, e in x["outcomes"]))
         if tag == "when":
             return (self.get(x["cond"], GroundCondition), self.get(x["effect"], GEffect))
+        if tag == "seq":
+            return self._seq(x["items"])
         raise ValueError(f"unknown node tag {tag!r}")
 
 
