@@ -92,7 +92,25 @@ def bench_p14(runs: int) -> None:
 
 
 # ----------------------------------------------------------- stamp by size
-def stamp_child(n: int) -> None:
+def replicate_actions(loaded, n: int):
+    """``loaded`` with its generated actions copied, renamed, up to ``n`` actions: the
+    checked program a generated N-action file gives, without parsing N actions."""
+    from dataclasses import replace
+
+    info = loaded.domain
+    generated = [a for a in info.actions if a.name.name.startswith("move_")]
+    actions = list(info.actions)
+    productions = dict(loaded.productions)
+    for i in range(len(generated), len(generated) + n - len(actions)):
+        source = generated[i % len(generated)]
+        name = f"move_{i}"
+        actions.append(replace(source, name=replace(source.name, name=name)))
+        productions[name] = loaded.productions[source.name.name]
+    return replace(loaded, domain=replace(info, actions=tuple(actions)),
+                   productions=productions)
+
+
+def stamp_child(n: int, replicate_from: int) -> None:
     """In a child process: compile a generated N-action domain, print stage timings."""
     sys.path.insert(0, str(BENCH))
     sys.path.insert(0, str(REPO))
@@ -103,7 +121,8 @@ def stamp_child(n: int) -> None:
     from stampc.ir.lower import lower
     from stampc.semantics.api import load_together
 
-    text = generate(n)
+    base = min(n, replicate_from) if replicate_from else n
+    text = generate(base)
     narrowed = text.replace(*NARROW)
     with tempfile.TemporaryDirectory() as tmp:
         d, p = Path(tmp) / "domain.stamp", Path(tmp) / "problem.stamp"
@@ -113,7 +132,9 @@ def stamp_child(n: int) -> None:
         clock = time.process_time
         t = clock()
         loaded = load_together([d, p])
-        stages.append(("parse+check", clock() - t))
+        stages.append(("parse+check" if base == n else f"check@{base}", clock() - t))
+        if base < n:
+            loaded = replicate_actions(loaded, n)
         t = clock()
         model = lower(loaded)
         stages.append(("lower", clock() - t))
@@ -132,14 +153,14 @@ def stamp_child(n: int) -> None:
           + f" narrowed={text != narrowed}")
 
 
-def bench_stamp(sizes: list[int]) -> None:
+def bench_stamp(sizes: list[int], replicate_from: int) -> None:
     print(f"\ngenerated stamp domain (bench/frontend.py 'stress' actions; CPU s of the "
           f"child, actions/s = schemas / CPU s; load average {os.getloadavg()[0]:.1f})")
     print(f"{'actions':>8} {'ground':>7} {'stage':<12} {'cpu s':>8} {'actions/s':>10}"
           f" {'JSON MB':>8} {'peak RSS MB':>11}")
     for n in sizes:
         wall, code, rss, out, _ = timed_child([sys.executable, str(Path(__file__)), "--child",
-                                               str(n)])
+                                               str(n), "--replicate-from", str(replicate_from)])
         line = next((ln for ln in out.splitlines() if ln.startswith("STAGES")), None)
         if code != 0 or line is None:
             print(f"{n:>8} failed (exit {code}): {out[-2000:]}")
@@ -149,7 +170,8 @@ def bench_stamp(sizes: list[int]) -> None:
         if "narrowed=False" in stages:
             print(f"  note: the generator no longer has {NARROW[0]!r}; measured as generated")
         for i, (name, sec) in enumerate(pairs):
-            rate = int(schemas) / max(float(sec), 1e-9)
+            done = int(name[6:]) if name.startswith("check@") else int(schemas)
+            rate = done / max(float(sec), 1e-9)
             extra = f" {int(size) / 1e6:8.1f} {rss:11.0f}" if i == 0 else ""
             print(f"{n if i == 0 else '':>8} {ground_n if i == 0 else '':>7} {name:<12} "
                   f"{float(sec):8.2f} {rate:10.0f}{extra}")
@@ -165,16 +187,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--sizes", default="2000,20000,165000",
                     help="comma-separated stamp domain sizes (actions)")
     ap.add_argument("--skip-p14", action="store_true")
+    ap.add_argument("--replicate-from", type=int, default=0, metavar="M",
+                    help="parse + check only an M-action file and copy its checked actions "
+                         "up to each size (isolates lower/ground/JSON from the front end)")
     ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        stamp_child(args.child)
+        stamp_child(args.child, args.replicate_from)
         return 0
     if not args.skip_p14:
         bench_p14(args.runs)
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     if sizes:
-        bench_stamp(sizes)
+        bench_stamp(sizes, args.replicate_from)
     return 0
 
 
