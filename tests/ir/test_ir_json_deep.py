@@ -7,8 +7,10 @@ import json
 from dataclasses import fields, is_dataclass
 from fractions import Fraction as F
 
+import pytest
 from ir_builders import EFF, action, add, atom, model, params, pred
 
+from stampc.diagnostics import StampcError
 from stampc.ir import lifted as L
 from stampc.ir.ground import ground
 from stampc.ir.grounded import (GAnd, GEffect, GLit, GOr, GProb, GroundAction, GroundAtom,
@@ -125,3 +127,50 @@ def test_shared_sub_effects_are_written_once_and_shared_again_on_load(ppddl_benc
     first, second = back.actions[0].effect, back.actions[1].effect
     assert first.whens[0] is second.whens[0]  # one object per node, as grounding made them
     assert len({id(b) for a in back.actions for b in a.effect.blocks}) == len(distinct_blocks)
+
+
+def _many_similar_effects(n_actions: int = 40, n_blocks: int = 200) -> GroundModel:
+    """SysAdmin's shape: every action has all blocks but its own, plus one of its own."""
+    facts = tuple(GroundAtom("up", (f"c{i}",)) for i in range(n_blocks))
+    blocks = [GProb(((F(1, 20), GEffect(delete=1 << i)),)) for i in range(n_blocks)]
+    actions = tuple(
+        GroundAction(k, "reboot", (f"c{k}",), GroundCondition(), GEffect(blocks=(
+            GProb(((F(9, 10), GEffect(add=1 << k)),)), *blocks[:k], *blocks[k + 1:])), F(1))
+        for k in range(n_actions))
+    return GroundModel(facts, actions, 0, GroundCondition(), (("c0", "comp"),))
+
+
+def test_long_reference_lists_share_runs_through_seq_nodes():
+    gm = _many_similar_effects()
+    data = grounded_to_json(gm)
+    nodes = data["nodes"]
+    seqs = [n for n in nodes if n["t"] == "seq"]
+    assert seqs and all(len(n["items"]) >= 2 for n in seqs)
+    effect_refs = sum(len(nodes[a["effect"]]["blocks"]) for a in data["actions"])
+    assert effect_refs < len(gm.actions) * 200 / 4  # runs shared, not spelled per action
+    back = grounded_from_json(json.loads(json.dumps(data)))
+    assert back == gm
+    assert back.actions[3].effect.blocks[10] is back.actions[7].effect.blocks[10]  # both b10
+
+
+@pytest.mark.parametrize("bad_seq", [{"t": "seq", "items": [0]}, {"t": "seq", "items": []}])
+def test_seq_nodes_need_two_items(bad_seq):
+    data = grounded_to_json(_many_similar_effects(3, 40))
+    data["nodes"].append(bad_seq)
+    with pytest.raises(StampcError) as exc:
+        grounded_from_json(data)
+    assert exc.value.diagnostics[0].code == "G192" and "two or more" in \
+        exc.value.diagnostics[0].message
+
+
+def test_a_seq_of_the_wrong_kind_is_rejected_where_it_is_used():
+    data = grounded_to_json(_many_similar_effects(3, 40))
+    nodes = data["nodes"]
+    seq = next(k for k, n in enumerate(nodes) if n["t"] == "seq")
+    cond = next(k for k, n in enumerate(nodes) if n["t"] == "cond")
+    nodes.append({"t": "seq", "items": [cond, cond]})
+    nodes.append({"t": "effect", "blocks": [seq, len(nodes) - 1]})
+    data["actions"][0]["effect"] = len(nodes) - 1
+    with pytest.raises(StampcError) as exc:
+        grounded_from_json(data)
+    assert exc.value.diagnostics[0].code == "G192" and "GProb" in exc.value.diagnostics[0].message
