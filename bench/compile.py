@@ -1,6 +1,11 @@
 """Import + grounding speed over the shared PPDDL benchmarks and a generated domain.
 
-Usage: python bench/compile.py [--only SUBSTRING] [--skip-large]
+Usage: python bench/compile.py [--only SUBSTRING] [--skip-large] [--sizes N,N,...]
+       [--skip-p14]
+
+Then the whole-compile figures of ``bench/compile_ir.py``: sysadmin-slp p14
+``stampc compile --target ir`` (wall time, bytes written, peak RSS) and the throughput
+(actions/s) per stage of a generated stamp domain at 2k, 20k and 165k actions.
 
 rectangle-tireworld p15 (about 13 million reachable actions) stops with diagnostic G114
 (the default ``max_actions`` of ground()); the run continues with the next problem.
@@ -21,6 +26,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
+import compile_ir  # noqa: E402  (bench/compile_ir.py, beside this file)
 from stampc.diagnostics import StampcError  # noqa: E402
 from stampc.ir import lifted as L  # noqa: E402
 from stampc.ir.ground import ground  # noqa: E402
@@ -131,6 +137,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--only", default="", help="only benchmarks whose path contains this")
     parser.add_argument("--skip-large", action="store_true",
                         help="skip the instances listed in LARGE (very large ground models)")
+    parser.add_argument("--sizes", default="2000,20000,165000",
+                        help="stamp domain sizes for the throughput table ('' skips it)")
+    parser.add_argument("--skip-p14", action="store_true",
+                        help="skip the sysadmin-slp p14 `compile --target ir` measurement")
     args = parser.parse_args(argv)
     print(f"{'problem':<62} {'import s':>8} {'ground s':>8} {'cpu s':>8} "
           f"{'actions':>9} {'facts':>7}")
@@ -141,8 +151,10 @@ def main(argv: list[str] | None = None) -> int:
               f"max {max(times):.2f} s, {over} at or above 1 s")
     gm, wall, cpu = timed_ground(generated_model())
     print(row("generated: 2000 action schemas (chain)", None, wall, cpu,
-              str(len(gm.actions)), str(len(gm.facts))))
-    return 0
+              str(len(gm.actions)), str(len(gm.facts))), flush=True)
+    print()
+    ir_args = ["--sizes", args.sizes] + (["--skip-p14"] if args.skip_p14 else [])
+    return compile_ir.main(ir_args)
 
 
 if __name__ == "__main__":

@@ -116,15 +116,22 @@ def _value(term: tuple[bool, str], env: Env) -> str:
 class RuleRunner:
     """Evaluates one rule, fully or anchored on delta facts, calling ``emit(env)``."""
 
-    def __init__(self, rule: Rule, static_holds: Callable[[str, tuple[str, ...]], bool]):
+    def __init__(self, rule: Rule, static_holds: Callable[[str, tuple[str, ...]], bool],
+                 shared_plans: dict[tuple, tuple] | None = None):
         self.rule = rule
         self.static_holds = static_holds
         self._plans: dict[int | None, tuple] = {}
+        #: plans by rule body: generated domains repeat one body over many schemas
+        self._shared = {} if shared_plans is None else shared_plans
 
     def plan(self, anchor: int | None) -> tuple:
         p = self._plans.get(anchor)
         if p is None:
-            p = self._plans[anchor] = _plan(self.rule, anchor)
+            key = (self.rule.body, self.rule.filters, anchor)
+            p = self._shared.get(key)
+            if p is None:
+                p = self._shared[key] = _plan(self.rule, anchor)
+            self._plans[anchor] = p
         return p
 
     def check(self, f: Filter, env: Env) -> bool:
@@ -190,7 +197,8 @@ def fixpoint(kb: FactBase, rules: list[Rule], static_holds: Callable,
              on_head: Callable[[Rule, tuple[str, ...], list], None]) -> None:
     """Run ``rules`` to a fixpoint. ``on_head(rule, head, pending)`` appends the facts
     a derived head produces to ``pending`` as (relation, tuple) pairs."""
-    runners = [RuleRunner(r, static_holds) for r in rules]
+    shared_plans: dict[tuple, tuple] = {}
+    runners = [RuleRunner(r, static_holds, shared_plans) for r in rules]
     by_rel: dict[str, list[tuple[RuleRunner, int]]] = {}
     for runner in runners:
         for i, pat in enumerate(runner.rule.body):

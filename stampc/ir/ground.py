@@ -16,6 +16,7 @@ with Skolem symbols appended in name order. Semantics are documented in docs/ir.
 from __future__ import annotations
 
 from stampc.ir import lifted as L
+from stampc.gcpause import no_gc_pauses
 from stampc.ir.ground_checks import ADD_WINS, DELETE_WINS, check_rule, effect_conflicts, \
     grounding_warnings
 from stampc.ir.ground_context import AtomKey, GroundingContext
@@ -42,6 +43,12 @@ def ground(model: L.Model, *, max_symbol_depth: int = DEFAULT_MAX_SYMBOL_DEPTH,
     both adds and deletes. Warnings (G201-G203) land in ``GroundModel.diagnostics``.
     """
     check_rule(conflicting_effects)
+    with no_gc_pauses():  # acyclic trees only; the collector's rescans grew with the model
+        return _ground(model, max_symbol_depth, max_actions, conflicting_effects)
+
+
+def _ground(model: L.Model, max_symbol_depth: int, max_actions: int,
+            conflicting_effects: str) -> GroundModel:
     validate_model(model)
     ctx = GroundingContext(model)
     reach = explore(ctx, max_symbol_depth, max_actions)

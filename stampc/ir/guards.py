@@ -64,6 +64,13 @@ class GuardedExpander:
         names = [p.name for p in params]
         guard = self._best(guards, env, frozenset(names))
         if guard is None:
+            if len(names) == 1:  # the common case, on the grounder's hot path
+                name = names[0]
+                for value in self.ctx.objects_of(params[0].type):
+                    inner = dict(env)
+                    inner[name] = value
+                    yield inner
+                return
             domains = [self.ctx.objects_of(p.type) for p in params]
             for values in product(*domains):
                 inner = dict(env)

@@ -19,13 +19,19 @@ from stampc.ir.grounded import EMPTY_EFFECT, GEffect, GProb, GroundCondition, \
 from stampc.ir.simplify import Env, Simplifier
 
 
+_ZERO = EMPTY_EFFECT.cost  # the default cost object, shared by most effects
+
+
 def is_empty(e: GEffect) -> bool:
     return not (e.add or e.delete or e.unknown or e.cost or e.whens or e.blocks)
 
 
 def merge(parts: list[GEffect]) -> GEffect:
     """Conjunction of effects (adds/deletes united, costs summed, sub-effects kept)."""
-    parts = [p for p in parts if not is_empty(p)]
+    # Runs once per ground forall/and, over up to |objects| parts: kept to flat loops.
+    # inlined is_empty, cheapest tests first (a Fraction's truth value is a Python call)
+    parts = [p for p in parts if p.blocks or p.whens or p.add or p.delete or p.unknown
+             or (p.cost is not _ZERO and p.cost)]
     if not parts:
         return EMPTY_EFFECT
     if len(parts) == 1:
@@ -35,13 +41,16 @@ def merge(parts: list[GEffect]) -> GEffect:
     whens: list = []
     blocks: list = []
     for p in parts:
-        add |= p.add
-        delete |= p.delete
-        unknown |= p.unknown
-        if p.cost:  # Fraction arithmetic is slow; most effects cost nothing
+        if p.add or p.delete or p.unknown:
+            add |= p.add
+            delete |= p.delete
+            unknown |= p.unknown
+        if p.cost is not _ZERO and p.cost:  # Fraction arithmetic is slow; most cost nothing
             costs.append(p.cost)
-        whens.extend(p.whens)
-        blocks.extend(p.blocks)
+        if p.whens:
+            whens += p.whens
+        if p.blocks:
+            blocks += p.blocks
     cost = sum(costs, Fraction(0)) if costs else Fraction(0)
     return GEffect(add, delete, cost, unknown, tuple(whens), tuple(blocks))
 
@@ -83,11 +92,27 @@ class EffectGrounder:
                 return sub
             return GEffect(whens=((cond, sub),))
         if isinstance(e, L.EffForall):
-            return merge([self.effect(e.effect, inner)
-                          for inner in self.simp.effect_bindings(e, env)])
+            return self._forall(e, env)
         if isinstance(e, L.Probabilistic):
             return self._probabilistic(e, env)
         raise TypeError(f"not an effect: {e!r}")
+
+    def _forall(self, e: L.EffForall, env: Env) -> GEffect:
+        body = e.effect
+        bindings = self.simp.effect_bindings(e, env)
+        if isinstance(body, (L.Lit, L.CostEffect, L.Unknown)):
+            return merge([self.effect(body, inner) for inner in bindings])
+        # inlined self.effect(body, inner): this loop is the grounder's hot spot
+        key_of = self.simp.scopes.keyer(body)
+        memo = self.memo
+        parts = []
+        for inner in bindings:
+            key = key_of(inner)
+            part = memo.get(key)
+            if part is None:
+                part = memo[key] = self._compound(body, inner)
+            parts.append(part)
+        return merge(parts)
 
     def _probabilistic(self, e: L.Probabilistic, env: Env) -> GEffect:
         outcomes: list[tuple[Fraction, GEffect]] = []

@@ -1,8 +1,8 @@
-"""JSON codec for the lifted IR (format documented in docs/ir.md).
+"""JSON codec for the lifted IR's leaves and declarations (format: docs/ir.md).
 
-Terms are strings (``"?x"`` is a variable, anything else an object; an object whose
-name starts with ``?`` is written ``{"const": name}``). Tree nodes carry a ``"t"`` tag.
-Fractions are strings such as ``"1/3"``. Spans are ``[file, line, col, end_line,
+Formula, effect and numeric trees are coded by :mod:`stampc.ir.json_tree`. Terms are
+strings (``"?x"`` is a variable, anything else an object; an object whose name starts
+with ``?`` is written ``{"const": name}``). Fractions are strings such as ``"1/3"``. Spans are ``[file, line, col, end_line,
 end_col]`` and omitted when absent. Decoding errors surface as KeyError/TypeError/
 ValueError; :mod:`stampc.ir.json_io` turns them into diagnostics.
 """
@@ -10,17 +10,20 @@ ValueError; :mod:`stampc.ir.json_io` turns them into diagnostics.
 from __future__ import annotations
 
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from stampc.diagnostics import Span
 from stampc.ir import lifted as L
+
+if TYPE_CHECKING:  # json_tree builds on this module
+    from stampc.ir.json_tree import TreeDecoder, TreeEncoder
 
 J = dict[str, Any]
 
 
 # ----------------------------------------------------------------- scalars
 def frac_to(x: Fraction) -> str:
-    return str(Fraction(x))
+    return str(x) if type(x) is Fraction else str(Fraction(x))
 
 
 def frac_from(s: Any) -> Fraction:
@@ -91,111 +94,6 @@ def atom_from(x: J) -> L.Atom:
     return L.Atom(str(x["pred"]), tuple(term_from(t) for t in x["args"]))
 
 
-# ---------------------------------------------------------------- formulas
-def formula_to(f: L.Formula) -> J:
-    if isinstance(f, L.Atom):
-        return {"t": "atom", **atom_to(f)}
-    if isinstance(f, L.Equals):
-        return {"t": "eq", "args": [term_to(f.left), term_to(f.right)]}
-    if isinstance(f, L.Not):
-        return {"t": "not", "arg": formula_to(f.arg)}
-    if isinstance(f, (L.And, L.Or)):
-        return {"t": "and" if isinstance(f, L.And) else "or",
-                "args": [formula_to(a) for a in f.args]}
-    if isinstance(f, L.Imply):
-        return {"t": "imply", "args": [formula_to(f.left), formula_to(f.right)]}
-    if isinstance(f, (L.Forall, L.Exists)):
-        return {"t": "forall" if isinstance(f, L.Forall) else "exists",
-                "params": params_to(f.params), "body": formula_to(f.body)}
-    if isinstance(f, L.Truth):
-        return {"t": "truth", "value": f.value}
-    raise TypeError(f"not a formula: {f!r}")
-
-
-def formula_from(x: J) -> L.Formula:
-    tag = x["t"]
-    if tag == "atom":
-        return atom_from(x)
-    if tag == "eq":
-        left, right = x["args"]
-        return L.Equals(term_from(left), term_from(right))
-    if tag == "not":
-        return L.Not(formula_from(x["arg"]))
-    if tag in ("and", "or"):
-        args = tuple(formula_from(a) for a in x["args"])
-        return L.And(args) if tag == "and" else L.Or(args)
-    if tag == "imply":
-        left, right = x["args"]
-        return L.Imply(formula_from(left), formula_from(right))
-    if tag in ("forall", "exists"):
-        cls = L.Forall if tag == "forall" else L.Exists
-        return cls(params_from(x["params"]), formula_from(x["body"]))
-    if tag == "truth":
-        return L.Truth(bool(x["value"]))
-    raise ValueError(f"unknown formula tag {tag!r}")
-
-
-def num_to(e: L.NumExpr) -> J:
-    if isinstance(e, L.Num):
-        return {"t": "num", "value": frac_to(e.value)}
-    if isinstance(e, L.FuncTerm):
-        return {"t": "func", "name": e.function, "args": [term_to(a) for a in e.args]}
-    return {"t": "binop", "op": e.op, "left": num_to(e.left), "right": num_to(e.right)}
-
-
-def num_from(x: J) -> L.NumExpr:
-    tag = x["t"]
-    if tag == "num":
-        return L.Num(frac_from(x["value"]))
-    if tag == "func":
-        return L.FuncTerm(str(x["name"]), tuple(term_from(a) for a in x["args"]))
-    if tag == "binop":
-        return L.BinOp(str(x["op"]), num_from(x["left"]), num_from(x["right"]))
-    raise ValueError(f"unknown numeric expression tag {tag!r}")
-
-
-# ----------------------------------------------------------------- effects
-def effect_to(e: L.Effect) -> J:
-    if isinstance(e, L.Lit):
-        return {"t": "lit", "atom": atom_to(e.atom), "positive": e.positive}
-    if isinstance(e, L.Unknown):
-        return {"t": "unknown", "atom": atom_to(e.atom)}
-    if isinstance(e, L.EffAnd):
-        return {"t": "and", "effects": [effect_to(s) for s in e.effects]}
-    if isinstance(e, L.When):
-        return {"t": "when", "cond": formula_to(e.condition), "effect": effect_to(e.effect)}
-    if isinstance(e, L.EffForall):
-        return {"t": "forall", "params": params_to(e.params), "effect": effect_to(e.effect)}
-    if isinstance(e, L.Probabilistic):
-        return {"t": "prob", "outcomes": [
-            {"p": frac_to(o.probability), "effect": effect_to(o.effect), "label": o.label}
-            for o in e.outcomes]}
-    if isinstance(e, L.CostEffect):
-        return {"t": "cost", "amount": num_to(e.amount)}
-    raise TypeError(f"not an effect: {e!r}")
-
-
-def effect_from(x: J) -> L.Effect:
-    tag = x["t"]
-    if tag == "lit":
-        return L.Lit(atom_from(x["atom"]), bool(x["positive"]))
-    if tag == "unknown":
-        return L.Unknown(atom_from(x["atom"]))
-    if tag == "and":
-        return L.EffAnd(tuple(effect_from(s) for s in x["effects"]))
-    if tag == "when":
-        return L.When(formula_from(x["cond"]), effect_from(x["effect"]))
-    if tag == "forall":
-        return L.EffForall(params_from(x["params"]), effect_from(x["effect"]))
-    if tag == "prob":
-        return L.Probabilistic(tuple(
-            L.Outcome(frac_from(o["p"]), effect_from(o["effect"]), o.get("label"))
-            for o in x["outcomes"]))
-    if tag == "cost":
-        return L.CostEffect(num_from(x["amount"]))
-    raise ValueError(f"unknown effect tag {tag!r}")
-
-
 # ------------------------------------------------------------ declarations
 def binding_to(b: L.Binding | None) -> J | None:
     return None if b is None else _with_span({"target": b.target}, b.span)
@@ -205,19 +103,19 @@ def binding_from(x: J | None) -> L.Binding | None:
     return None if x is None else L.Binding(str(x["target"]), span_from(x.get("span")))
 
 
-def action_to(a: L.Action) -> J:
+def action_to(a: L.Action, trees: "TreeEncoder") -> J:
     return _with_span({
-        "name": a.name, "params": params_to(a.params), "pre": formula_to(a.precondition),
-        "effect": effect_to(a.effect), "cost": None if a.cost is None else num_to(a.cost),
+        "name": a.name, "params": params_to(a.params), "pre": trees.encode(a.precondition),
+        "effect": trees.encode(a.effect), "cost": None if a.cost is None else trees.encode(a.cost),
         "generated": [{"generator": g.generator, "inputs": list(g.inputs),
                        "outputs": list(g.outputs)} for g in a.generated],
         "executes": binding_to(a.executes)}, a.span)
 
 
-def action_from(x: J) -> L.Action:
+def action_from(x: J, trees: "TreeDecoder") -> L.Action:
     return L.Action(
-        str(x["name"]), params_from(x["params"]), formula_from(x["pre"]),
-        effect_from(x["effect"]), None if x.get("cost") is None else num_from(x["cost"]),
+        str(x["name"]), params_from(x["params"]), trees.formula(x["pre"]),
+        trees.effect(x["effect"]), None if x.get("cost") is None else trees.num(x["cost"]),
         tuple(L.GeneratorUse(str(g["generator"]), tuple(g["inputs"]), tuple(g["outputs"]))
               for g in x.get("generated", ())),
         binding_from(x.get("executes")), span_from(x.get("span")))

@@ -22,7 +22,7 @@ from typing import Union
 
 from stampc.diagnostics import Span
 
-IR_VERSION = "1.0"
+IR_VERSION = "2.0"
 
 
 # ------------------------------------------------------------------ terms

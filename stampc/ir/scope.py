@@ -11,6 +11,8 @@ per computer instead of once per (computer, rebooted computer) pair.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from operator import itemgetter
+from typing import Callable
 
 from stampc.ir import lifted as L
 
@@ -61,7 +63,7 @@ class ScopeAnalysis:
 
     def __init__(self) -> None:
         self._cache: dict[int, Scope] = {}
-        self._plans: dict[int, tuple[tuple[str, ...], tuple[EqPair, ...]]] = {}
+        self._keyers: dict[int, Callable[[dict[str, str]], tuple]] = {}
 
     def of(self, node) -> Scope:
         s = self._cache.get(id(node))
@@ -101,17 +103,49 @@ class ScopeAnalysis:
         return EMPTY  # Truth, Num
 
     def memo_key(self, node, env: dict[str, str]) -> tuple:
-        plan = self._plans.get(id(node))
-        if plan is None:
-            s = self.of(node)
-            eqs = tuple(e for e in s.eqs if _vars(e) - s.struct)
-            plan = self._plans[id(node)] = (tuple(sorted(s.struct)), eqs)
-        struct, eqs = plan
-        values = tuple([env[v] for v in struct])
+        return self.keyer(node)(env)
+
+    def keyer(self, node) -> Callable[[dict[str, str]], tuple]:
+        """``memo_key`` for ``node`` as a function of the environment (for hot loops)."""
+        keyer = self._keyers.get(id(node))
+        if keyer is None:
+            keyer = self._keyers[id(node)] = self._compile_key(node)
+        return keyer
+
+    def _compile_key(self, node) -> Callable[[dict[str, str]], tuple]:
+        # Grounding calls this once per (node, binding): quadratic on SysAdmin-like
+        # domains, so the key is built by a closure specialised to the node's shape.
+        s = self.of(node)
+        nid = id(node)
+        struct = tuple(sorted(s.struct))
+        eqs = tuple(e for e in s.eqs if _vars(e) - s.struct)
+        values = _values_getter(struct)
         if not eqs:
-            return (id(node), values)
-        return (id(node), values, tuple([_term(a, env) == _term(b, env) for a, b in eqs]))
+            return lambda env: (nid, values(env))
+        tests = tuple(_equality_test(a, b) for a, b in eqs)
+        if len(tests) == 1:
+            (test,) = tests
+            return lambda env: (nid, values(env), (test(env),))
+        return lambda env: (nid, values(env), tuple([t(env) for t in tests]))
 
 
-def _term(t: L.Term, env: dict[str, str]) -> str:
-    return env[t.name] if isinstance(t, L.Var) else t.name
+def _values_getter(names: tuple[str, ...]) -> Callable[[dict[str, str]], tuple]:
+    if not names:
+        return lambda env: ()
+    if len(names) == 1:
+        (name,) = names
+        return lambda env: (env[name],)
+    return itemgetter(*names)  # a tuple for two or more names
+
+
+def _equality_test(a: L.Term, b: L.Term) -> Callable[[dict[str, str]], bool]:
+    if isinstance(a, L.Var) and isinstance(b, L.Var):
+        x, y = a.name, b.name
+        return lambda env: env[x] == env[y]
+    if isinstance(b, L.Var):
+        a, b = b, a
+    if isinstance(a, L.Var):
+        x, c = a.name, b.name
+        return lambda env: env[x] == c
+    same = a.name == b.name
+    return lambda env: same

@@ -17,7 +17,8 @@ import pytest
 import stampc
 from stampc.backends.ppddl.importer import import_ppddl_text
 from stampc.ir.grounded import GroundModel, bits
-from stampc.ir.json_io import grounded_from_json, grounded_to_json, lifted_from_json, lifted_to_json
+from stampc.ir.json_io import (grounded_from_json, grounded_to_json, lifted_from_json,
+                               lifted_to_json, read_ir_json)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["cluttered_table", "domino", "keva", "aircraft_inspection"]
@@ -57,6 +58,19 @@ def test_example_compiles_to_ir_and_json_round_trips(name):
     again = grounded_from_json(json.loads(json.dumps(grounded_to_json(ground))))
     assert again.facts == ground.facts and again.actions == ground.actions
     assert again.init == ground.init and again.goal == ground.goal
+
+
+def test_compile_command_streams_ir_files_that_load_back(tmp_path):
+    from stampc.cli import main
+    name = "cluttered_table"
+    code = main(["compile", str(EXAMPLES / name / "domain.stamp"),
+                 str(EXAMPLES / name / "problem.stamp"), "--target", "ir", "-o", str(tmp_path)])
+    assert code == 0
+    model = compiled(name)
+    assert read_ir_json(tmp_path / "lifted.json") == model
+    grounded = read_ir_json(tmp_path / "grounded.json")
+    assert grounded == model.ground() and grounded.lifted == model
+    assert json.loads((tmp_path / "grounded.json").read_text())["ir_version"] == "2.0"
 
 
 @pytest.mark.parametrize("name", NAMES)
