@@ -153,7 +153,10 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any]) -> dict:
 
 def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result: RefineResult,
                   initial_values: Mapping[str, Any], meta: Mapping[str, Any]) -> None:
+    from stampc.execute.provenance import anchored
+
     out_dir.mkdir(parents=True, exist_ok=True)
+    meta = anchored(meta, out_dir)  # input paths relative to policy.json (issue 13)
     policy = policy_json(model, graph, result, initial_values, meta)
     (out_dir / "policy.json").write_text(json.dumps(policy, indent=1, sort_keys=True))
     (out_dir / "policy.dot").write_text(policy_dot(model, graph))
