@@ -147,10 +147,15 @@ class _RunLoop:
 def _step(node: Mapping[str, Any], sampled: TrueOutcome, truth: TruthModel) -> Step:
     true = truth.distribution(node)
     names = outcome_names(node, true)
-    model = {names[planned_key(o)]: float(o["probability"]) for o in node["outcomes"]}
+    model: dict[str, float] = {}
+    for o in node["outcomes"]:  # outcomes sharing a name (e.g. +toppled) add up
+        name = names[planned_key(o)]
+        model[name] = model.get(name, 0.0) + float(o["probability"])
+    truth_p: dict[str, float] = {}
+    for o in true:
+        truth_p[names[o.key]] = truth_p.get(names[o.key], 0.0) + o.probability
     return Step(node["action"], node["action_name"], names[sampled.key],
-                sampled.planned is not None, model,
-                {names[o.key]: o.probability for o in true})
+                sampled.planned is not None, model, truth_p)
 
 
 def outcome_names(node: Mapping[str, Any], true: tuple[TrueOutcome, ...]) -> dict:
