@@ -30,12 +30,19 @@ def _trajectories(action: Any, kind: type) -> list[Any]:
     return [v for v in action.args.values() if isinstance(v, kind)]
 
 
+def pybullet_trajectories(action: Any) -> list[Any]:
+    """The PyBullet trajectories among ``action``'s arguments; a policy file stores them
+    as JSON (``{"configs": ...}``), decoded here."""
+    from stampc.worlds.pybullet.values import Traj, as_traj
+
+    return [as_traj(v) for v in action.args.values()
+            if isinstance(v, Traj) or (isinstance(v, dict) and "configs" in v)]
+
+
 # ------------------------------------------------------------------ PyBullet
 def pybullet_recheck(world: Any, action: Any) -> list[str]:
-    from stampc.worlds.pybullet.values import Traj
-
     hits: set[str] = set()
-    for traj in _trajectories(action, Traj):
+    for traj in pybullet_trajectories(action):
         if traj.configs and len(traj.configs[0]) == 7 and world.uav >= 0:
             hits |= _flight_hits(world, traj)
         elif world.robot >= 0:

@@ -16,7 +16,7 @@ failed run with its reason.
 from __future__ import annotations
 
 import random
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
 from stampc.execute.truth import TrueOutcome, TruthModel, planned_key
@@ -59,7 +59,7 @@ class Hooks:
     #: run before each action (e.g. settle physics); ``(world, concrete action)``
     before_action: Callable[[Any, Any], None] | None = None
     after_action: Callable[[Any, Any], None] | None = None
-    extra: Mapping[str, Any] = field(default_factory=dict)
+    on_run_start: Callable[[int], None] | None = None
 
 
 def execute_policy(policy: Mapping, world: Any, executors: Mapping[str, Callable],
@@ -73,6 +73,8 @@ def execute_policy(policy: Mapping, world: Any, executors: Mapping[str, Callable
     out = []
     for run in range(runs):
         world.restore(initial)
+        if hooks.on_run_start is not None:
+            hooks.on_run_start(run)
         loop = _RunLoop(nodes, sigmas, dict(start_env), world, executors, truth, hooks,
                         random.Random(rng.random()), run)
         out.append(loop.go(policy["root"], max_steps))

@@ -9,7 +9,7 @@ run, and return the :class:`~.report.ExecutionReport`.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 from stampc.diagnostics import Span
 from stampc.execute.report import ExecutionReport
@@ -17,14 +17,15 @@ from stampc.execute.report import ExecutionReport
 
 def execute_file(path: Path, *, runs: int, seed: int, max_steps: int = 500,
                  truth: Sequence[str] | Mapping[str, Any] = (), verbose: bool = False,
-                 on_step: Callable[[int, Any], None] | None = None,
-                 on_open: Callable[[Any], None] | None = None) -> ExecutionReport:
+                 physics: bool = True, recorder: Any = None) -> ExecutionReport:
+    """Execute the policy at ``path``; ``recorder`` (:class:`.frames.Recorder`) records
+    the first run; ``physics`` lets PyBullet objects settle under gravity."""
     from stampc import api
     from stampc.execute.goals import goal_check_for
     from stampc.execute.policyfile import load_policy
     from stampc.execute.provenance import verify
     from stampc.execute.recheck import recheck_for
-    from stampc.execute.runner import Hooks, execute_policy
+    from stampc.execute.runner import execute_policy
     from stampc.execute.truth import build_truth, parse_overrides, predicted_success
     from stampc.worlds.bindings import resolve_model
     from stampc.worlds.loading import SceneOrigin, open_world
@@ -43,10 +44,10 @@ def execute_file(path: Path, *, runs: int, seed: int, max_steps: int = 500,
     world = open_world(policy["world"], scene, seed=seed, verbose=verbose, origin=origin)
     try:
         bindings = resolve_model(model, world.package)
-        hooks = Hooks(goal_check=goal_check_for(world, scene, path.parent),
-                      recheck=recheck_for(world), on_step=on_step)
-        if on_open is not None:
-            on_open(world)
+        hooks = _hooks(world, recorder, physics, goal_check_for(world, scene, files[-1].parent),
+                       recheck_for(world))
+        if recorder is not None:
+            recorder.start(world)
         results = execute_policy(policy, world, bindings.executors, true_model, runs=runs,
                                  seed=seed, max_steps=max_steps, hooks=hooks)
     finally:
@@ -55,3 +56,24 @@ def execute_file(path: Path, *, runs: int, seed: int, max_steps: int = 500,
                            float(policy.get("coverage", 0.0)),
                            float(policy.get("goal_probability", 0.0)),
                            {k: float(v) for k, v in overrides.items()})
+
+
+def _hooks(world: Any, recorder: Any, physics: bool, goal_check, recheck):
+    """The runner's hooks: physics settling (PyBullet) and the recorder's frames."""
+    from stampc.execute.runner import Hooks
+
+    settle = None
+    if physics and hasattr(world, "body"):
+        from stampc.worlds.pybullet.physics import Physics
+        settle = Physics(world, on_frame=recorder.frame if recorder is not None else None)
+
+    def before(w: Any, action: Any) -> None:
+        if recorder is not None:
+            recorder.motion(w, action)
+        if settle is not None:
+            settle.before_action(w, action)
+
+    return Hooks(goal_check=goal_check, recheck=recheck, before_action=before,
+                 after_action=settle.after_action if settle is not None else None,
+                 on_step=recorder.on_step if recorder is not None else None,
+                 on_run_start=recorder.on_run_start if recorder is not None else None)
