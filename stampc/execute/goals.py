@@ -15,7 +15,8 @@ problem); otherwise the world's default applies:
   :data:`SLOT_ANGLE_TOL` rad of the slot's pose (up to the box's symmetry);
   every object lying tilted more than 45° from how it stood (a toppled domino) has
   ``notified(o)`` in the leaf state, when the domain has a ``notified`` predicate;
-  ``meta.fault`` (aircraft): the part found faulty (``fault_found``) is the true fault.
+  a ``notified`` goal (aircraft): exactly one part was found faulty, one of
+  ``meta.suspects``.
 """
 
 from __future__ import annotations
@@ -83,12 +84,22 @@ def pybullet_goal(world: Any, leaf: Mapping[str, Any]) -> list[str]:
             reasons += _slot_filled(world, args[0])
     if any(f.startswith("notified(") for f in state) or "toppled" in str(leaf.get("state")):
         reasons += _toppled_notified(world, state)
-    fault = world.spec.meta.get("fault")
-    if isinstance(fault, str):
-        found = sorted(f[len("fault_found("):-1] for f in state if f.startswith("fault_found("))
-        if found and fault not in found:
-            reasons.append(f"the alert names {', '.join(found)}, but the fault is in {fault}")
+    if "notified" in {pred for pred, _ in _facts(leaf)}:
+        reasons += _fault_alerted(world, state)
     return reasons
+
+
+def _fault_alerted(world: Any, state: set[str]) -> list[str]:
+    """Aircraft: the alert is about one part found faulty, a suspect of the scene. (The
+    scene's ``meta.fault`` is not compared: the truth model samples detections with the
+    model's probabilities, which average over where the fault is.)"""
+    found = sorted(f[len("fault_found("):-1] for f in state if f.startswith("fault_found("))
+    suspects = world.spec.meta.get("suspects")
+    if len(found) != 1:
+        return [f"the alert is about {len(found)} parts found faulty, not one"]
+    if isinstance(suspects, list) and found[0] not in suspects:
+        return [f"the alert names {found[0]}, which is not a suspect ({', '.join(suspects)})"]
+    return []
 
 
 def _held_and_lifted(world: Any, name: str) -> list[str]:
