@@ -15,6 +15,7 @@ same sequence of calls, and DIRECT mode is kept: same seed, same poses.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable
 
@@ -28,6 +29,8 @@ MAX_STEPS = 480          # 2 s of simulated time at most
 REST_SPEED = 1e-3        # m/s and rad/s below which a body is at rest
 REST_STEPS = 24          # consecutive steps at rest before stopping
 MOVED = 1e-6             # m: a pose change smaller than this is no change
+TIP_SPEED = 30.0         # rad/s: the push that tips a toppled object over (slower ones are
+#                          absorbed by the table contact and the domino rocks back upright)
 #: the collision filter of world.py for movable objects, restored after settling
 MOVABLE_MASK = G_ROBOT | G_HELD | G_UAV
 ALL = G_ROBOT | G_HELD | G_MOVABLE | G_STATIC | G_UAV
@@ -59,15 +62,21 @@ class Physics:
         released = [n for n in (before.held,) if n and n != after.held and n not in dropped
                     and n not in moved and n not in after.removed]
         starts = {n: new[n] for n in moved + released}
+        spins = {n: _tip_over(old[n], new[n]) for n in moved if n in old}
+        for n, spin in spins.items():
+            if spin is not None:  # toppled: let it fall from where it stood
+                starts[n] = old[n]
         for n in dropped:  # let go where the hand holds it now (e.g. over the tray)
             held_here = n == before.held and before.grip is not None and world.robot >= 0
             starts[n] = world.ee_pose().multiply(before.grip) if held_here else old[n]
         if starts:
-            self.settle(starts)
+            self.settle(starts, {n: w for n, w in spins.items() if w is not None})
 
-    def settle(self, starts: dict[str, Pose]) -> dict[str, Pose]:
-        """Simulate the bodies in ``starts`` from those poses until they rest; update the
-        world state with their final poses (removed ones go to :attr:`resting`)."""
+    def settle(self, starts: dict[str, Pose],
+               spins: dict[str, tuple[float, float, float]] | None = None) -> dict[str, Pose]:
+        """Simulate the bodies in ``starts`` from those poses (``spins``: initial angular
+        velocities) until they rest; update the world state with their final poses
+        (removed ones go to :attr:`resting`)."""
         world, cid = self.world, self.world.client
         names = sorted(starts)
         frozen = self._freeze_others(names)
@@ -76,7 +85,8 @@ class Physics:
             pose = starts[n]
             p.resetBasePositionAndOrientation(world.body[n], pose.pos, pose.quat,
                                               physicsClientId=cid)
-            p.resetBaseVelocity(world.body[n], (0, 0, 0), (0, 0, 0), physicsClientId=cid)
+            p.resetBaseVelocity(world.body[n], (0, 0, 0), (spins or {}).get(n, (0, 0, 0)),
+                                physicsClientId=cid)
             p.setCollisionFilterGroupMask(world.body[n], -1, G_MOVABLE, ALL, physicsClientId=cid)
         statics = list(world.static_ids)
         for b in statics:
@@ -150,3 +160,19 @@ class Physics:
         for n, pose in final.items():
             if n in removed:  # drawn where it lies; out of the robot's way (in the bin)
                 world.rest_removed(n, pose)
+
+
+def _tip_over(before: Pose, after: Pose) -> tuple[float, float, float] | None:
+    """The angular velocity that tips a body standing at ``before`` towards ``after``
+    when an event laid it down (its up axis turned by more than 45°), else None."""
+    from stampc.worlds.pybullet.values import quat_rotate
+
+    up0, up1 = quat_rotate(before.quat, (0, 0, 1)), quat_rotate(after.quat, (0, 0, 1))
+    if sum(a * b for a, b in zip(up0, up1)) > math.cos(math.pi / 4):
+        return None
+    dx, dy = after.pos[0] - before.pos[0], after.pos[1] - before.pos[1]
+    norm = math.hypot(dx, dy)
+    if norm < 1e-9:
+        return None
+    # ω along up × d tips the top towards d
+    return (-dy / norm * TIP_SPEED, dx / norm * TIP_SPEED, 0.0)
