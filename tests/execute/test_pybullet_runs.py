@@ -24,8 +24,8 @@ def domino(tmp_path_factory) -> Path:
 
 
 def test_domino_runs_are_checked_and_clean(domino: Path) -> None:
-    report = execute_file(domino, runs=12, seed=3)
-    assert report.count("success") == 12
+    report = execute_file(domino, runs=8, seed=3)
+    assert report.count("success") == 8
     assert report.collisions == 0 and report.goal_failures == 0
     toppled = sum(s.outcome.startswith("+toppled") for r in report.runs for s in r.steps)
     assert toppled > 0  # the check had something to decide
@@ -39,9 +39,9 @@ def test_forgetting_a_notify_fails_the_concrete_goal(domino: Path, tmp_path: Pat
     edited = domino.parent / "no-notify.json"
     edited.write_text(json.dumps(policy))
     try:
-        report = execute_file(edited, runs=12, seed=3)
+        report = execute_file(edited, runs=8, seed=3)
     finally:
         edited.unlink()
     failed = [r for r in report.runs if r.goal_failures]
     assert failed and all("toppled but was not notified" in r.detail for r in failed)
-    assert report.count("success") + len(failed) == 12
+    assert report.count("success") + len(failed) == 8
