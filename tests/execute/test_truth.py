@@ -94,3 +94,19 @@ def test_prediction_with_the_model_as_truth_is_the_goal_probability(shelf: Path)
     model = api.load_model([shelf / "domain.stamp", shelf / "problem.stamp"])
     truth = build_truth(model, {}, Span.point("t"))
     assert predicted_success(policy, truth) == pytest.approx(policy["goal_probability"])
+
+
+def test_json_report_names_every_figure(shelf: Path, capsys) -> None:
+    from stampc.cli import main
+
+    code = main(["execute", str(shelf / "partial" / "policy.json"), "--runs", "40",
+                 "--seed", "2", "--truth", "crushed=0.5", "--format", "json"])
+    data = json.loads(capsys.readouterr().out)
+    assert code == 0  # unrefined branches are not failures of the refined policy
+    assert data["runs"] == 40 and data["success"] + data["unrefined"] == 40
+    lo, hi = data["success_ci95"]
+    assert lo <= data["success_rate"] <= hi
+    assert data["truth"] == {"crushed": 0.5}
+    assert data["outcomes"]["pick"]["+crushed"]["truth"] == pytest.approx(0.5)
+    assert {"collisions", "goal_check_failures", "predicted_success",
+            "coverage_x_goal_probability"} <= set(data)
