@@ -1,4 +1,5 @@
-"""``stampc execute``: replay a refined policy in its world, sampling outcomes."""
+"""``stampc execute``: run a refined policy in its world, the world deciding outcomes;
+provenance, collisions and the goal are checked (see docs/execute.md)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ from pathlib import Path
 
 from stampc.commands.common import EXIT_DONE, EXIT_STOPPED_SHORT, positive_int, reports_errors
 
-HELP = "replay a refined policy (policy.json) in its concrete world and report success"
+HELP = ("run a refined policy (policy.json) in its world, the world sampling outcomes; "
+        "checks provenance, collisions (10x) and the concrete goal, and reports")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -21,8 +23,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="true probability of a labelled outcome, `NAME=P` (any action) "
                              "or `ACTION.NAME=P` (repeatable; default: the model's); see "
                              "docs/execute.md")
-    parser.add_argument("--render", metavar="DIR", help="write PNG frames and an animated GIF "
-                        "of the first run here")
+    parser.add_argument("--render", metavar="DIR", help="write PNG frames, an animated GIF "
+                        "(and an MP4 with imageio-ffmpeg) of the first run here")
     parser.add_argument("--no-physics", action="store_true",
                         help="PyBullet: leave objects where executors put them (no settling "
                              "under gravity)")

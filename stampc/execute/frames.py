@@ -75,9 +75,8 @@ class Recorder:
             imageio.imwrite(self.out / f"frame_{i:03d}.png", frame)
         written = [self.out / "run.gif"]
         imageio.mimsave(written[0], self.frames, duration=1.0 / FPS, loop=0)
-        try:
-            import imageio_ffmpeg  # noqa: F401  (optional extra: `pip install stampc[video]`)
-        except ImportError:
+        import importlib.util
+        if importlib.util.find_spec("imageio_ffmpeg") is None:  # the optional [video] extra
             return written
         writer = imageio.get_writer(self.out / "run.mp4", fps=FPS, macro_block_size=8)
         for frame in self.frames:

@@ -9,7 +9,6 @@ from pathlib import Path
 
 from stampc.cli import main
 
-from .conftest import refine
 
 
 def execute(policy: Path, *extra: str) -> int:
