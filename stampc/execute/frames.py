@@ -35,7 +35,10 @@ class Recorder:
 
     def motion(self, world: Any, action: Any) -> None:
         """Frames of the robot following each trajectory of ``action`` (state unchanged)."""
-        if not self.active or not hasattr(world, "set_arm"):
+        if not self.active:
+            return
+        if hasattr(world, "move_gripper"):
+            self._plane2d(world, action)
             return
         from stampc.execute.recheck import pybullet_trajectories
 
@@ -44,6 +47,22 @@ class Recorder:
                 self._flight(world, traj)
             elif world.robot >= 0:
                 self._arm(world, traj)
+
+    def _plane2d(self, world: Any, action: Any) -> None:
+        from stampc.worlds.plane2d.values import Traj2
+
+        start = world.snapshot()
+        for traj in (v for v in action.args.values() if isinstance(v, Traj2)):
+            uav = world.uav is not None and traj.points and traj.points[0] == world.uav
+            try:
+                for point in along(traj.points, PER_MOTION):
+                    if uav:
+                        world.set_uav(point, world.battery)
+                    else:
+                        world.move_gripper([traj.points[0], point])
+                    self.frames.append(world.render())
+            finally:
+                world.restore(start)
 
     def _arm(self, world: Any, traj: Any) -> None:
         try:
@@ -80,7 +99,7 @@ class Recorder:
             return written
         writer = imageio.get_writer(self.out / "run.mp4", fps=FPS, macro_block_size=8)
         for frame in self.frames:
-            writer.append_data(frame)
+            writer.append_data(_padded(frame, 8))  # codecs want sides divisible by 8
         writer.close()
         return written + [self.out / "run.mp4"]
 
@@ -101,3 +120,11 @@ def along(configs: tuple, n: int) -> list[tuple[float, ...]]:
         a, b = configs[i], configs[i + 1]
         out.append(tuple(x + (y - x) * t for x, y in zip(a, b)))
     return out
+
+
+def _padded(frame: Any, block: int) -> Any:
+    import numpy as np
+
+    h, w = frame.shape[:2]
+    pad = ((0, -h % block), (0, -w % block), (0, 0))
+    return np.pad(frame, pad, constant_values=255)
