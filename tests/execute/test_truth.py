@@ -39,7 +39,7 @@ def test_success_rate_follows_the_true_probabilities(shelf: Path, crush: float) 
     k = _risky_picks(policy)
     assert k >= 2 and policy["coverage"] < 1  # crushed branches are left unrefined
     expected = (1 - crush) ** k  # every crush leads to an unrefined branch
-    runs = 600
+    runs = 300
     report = execute_file(path, runs=runs, seed=7, truth=[f"crushed={crush}"])
     assert report.predicted == pytest.approx(expected)
     lo, hi = wilson_interval(report.count("success"), runs, Z99)
@@ -52,11 +52,11 @@ def test_success_rate_follows_the_true_probabilities(shelf: Path, crush: float) 
 
 def test_model_mismatch_moves_the_rate_away_from_the_model(shelf: Path) -> None:
     path = shelf / "partial" / "policy.json"
-    model_rate = execute_file(path, runs=400, seed=3)
-    mismatched = execute_file(path, runs=400, seed=3, truth=["pick.crushed=0.5"])
+    model_rate = execute_file(path, runs=200, seed=3)
+    mismatched = execute_file(path, runs=200, seed=3, truth=["pick.crushed=0.5"])
     assert model_rate.predicted == pytest.approx(json.loads(path.read_text())["coverage"])
-    assert wilson_interval(mismatched.count("success"), 400, Z99)[1] < \
-        wilson_interval(model_rate.count("success"), 400, Z99)[0]
+    assert wilson_interval(mismatched.count("success"), 200, Z99)[1] < \
+        wilson_interval(model_rate.count("success"), 200, Z99)[0]
 
 
 def test_unplanned_outcomes_end_on_an_unrefined_branch(shelf: Path) -> None:
