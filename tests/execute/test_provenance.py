@@ -9,6 +9,8 @@ from pathlib import Path
 
 from stampc.cli import main
 
+from .conftest import refine
+
 
 
 def execute(policy: Path, *extra: str) -> int:
@@ -90,3 +92,20 @@ def test_abstract_policy_from_solve_is_named(shelf: Path, tmp_path: Path, capsys
     assert execute(out) == 1
     err = capsys.readouterr().err
     assert "I003" in err and "stampc solve" in err and "refine it first" in err
+
+
+def test_swapped_scene_builder_is_refused(shelf: Path, tmp_path: Path, capsys) -> None:
+    folder = tmp_path / "own"
+    folder.mkdir()
+    shutil.copy(shelf / "domain.stamp", folder / "domain.stamp")
+    builder = "from stampc.worlds.plane2d.scenes import cluttered as build\n"
+    (folder / "myscene.py").write_text(builder)
+    text = (shelf / "problem.stamp").read_text().replace(
+        "stampc.worlds.plane2d.scenes:cluttered", "myscene:build")
+    (folder / "problem.stamp").write_text(text)
+    policy = refine(folder, "out")
+    capsys.readouterr()
+    (folder / "myscene.py").write_text(builder + "# another scene\n")
+    assert execute(policy) == 1
+    err = capsys.readouterr().err
+    assert "P003" in err and "scene builder module" in err and "myscene.py" in err
