@@ -110,3 +110,21 @@ def test_json_report_names_every_figure(shelf: Path, capsys) -> None:
     assert data["outcomes"]["pick"]["+crushed"]["truth"] == pytest.approx(0.5)
     assert {"collisions", "goal_check_failures", "predicted_success",
             "coverage_x_goal_probability"} <= set(data)
+
+
+def test_an_outcome_missing_from_the_policy_is_unplanned(shelf: Path) -> None:
+    policy = json.loads((shelf / "full" / "policy.json").read_text())
+    for node in policy["nodes"]:  # forget every crushed branch
+        if node.get("outcomes"):
+            node["outcomes"] = [o for o in node["outcomes"]
+                                if not any(a["predicate"] == "crushed" for a in o["adds"])]
+    edited = shelf / "full" / "no-crush.json"
+    edited.write_text(json.dumps(policy))
+    try:
+        report = execute_file(edited, runs=60, seed=4, truth=["crushed=0.5"])
+    finally:
+        edited.unlink()
+    unplanned = [r for r in report.runs if "was not planned for" in r.detail]
+    assert unplanned and all(r.status == "unrefined" for r in unplanned)
+    assert report.count("success") + len(unplanned) == 60
+    assert report.predicted < 0.5
