@@ -84,6 +84,7 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
            on_event: Callable | None = None, scene_overrides: Mapping[str, Any] | None = None,
            verbose: bool = False):
     """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``."""
+    from stampc.execute.provenance import builder_source, record
     from stampc.refine import RefineOptions, run_refinement
     from stampc.worlds.bindings import resolve_model
     from stampc.worlds.loading import load_scene, open_world, scene_origin
@@ -98,7 +99,9 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
     try:
         bindings = resolve_model(model, w.package)
         meta = {"domain": model.domain.name, "problem": model.problem.name, "world": world,
-                "files": [str(p.resolve()) for p in paths], "scene": scene}
+                "files": [str(p.resolve()) for p in paths], "scene": scene,
+                "provenance": record(paths, world, scene, builder_source(
+                    model.problem.scene, paths[-1].parent, scene_overrides))}
         return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta)
     finally:
         w.close()

@@ -67,7 +67,10 @@ def test_refine_plane2d_then_execute(cli, checkout):
     assert refine.code == 0, refine.err
     assert "coverage 1.0000" in refine.out
     policy = json.loads((checkout / "out" / "policy.json").read_text(encoding="utf-8"))
-    assert all(Path(f).is_absolute() for f in policy["files"])  # execute works from anywhere
+    # paths relative to policy.json (issue 13), the absolute ones kept as a fallback:
+    # execute works from anywhere
+    assert policy["files"][0] == "../examples/cluttered_table/domain.stamp"
+    assert all(Path(e["absolute"]).is_absolute() for e in policy["provenance"]["inputs"])
     execute = cli.run("execute", str(checkout / "out" / "policy.json"), "--runs", "3",
                       "--seed", "1", cwd=checkout.parent)
     assert execute.code == 0, execute.err

@@ -30,8 +30,10 @@ def fallen_pose(world: PyBulletWorld, name: str, standing: Pose) -> Pose:
     norm = math.hypot(dx, dy) or 1.0
     away = (dx / norm, dy / norm, 0.0)
     up = (0.0, 0.0, 1.0)
-    side = (up[1] * away[2] - up[2] * away[1], up[2] * away[0] - up[0] * away[2],
-            up[0] * away[1] - up[1] * away[0])  # body y = z × away keeps it right-handed
+    # body y = body z × body x = away × up keeps the frame right-handed (issue 13: the
+    # former up × away made a reflection, whose "quaternion" left dominoes upright)
+    side = (away[1] * up[2] - away[2] * up[1], away[2] * up[0] - away[0] * up[2],
+            away[0] * up[1] - away[1] * up[0])
     quat = quat_from_axes(up, side, away)
     reach = sz / 2.0 + sy / 2.0  # pivot over the far bottom edge
     pos = (standing.pos[0] + away[0] * reach, standing.pos[1] + away[1] * reach,

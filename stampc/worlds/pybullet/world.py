@@ -63,6 +63,7 @@ class PyBulletWorld:
         self.uav = self._add_uav() if spec.uav is not None else -1
         self._placed: dict[str, Pose] = {}
         self._bases: dict[str, Pose] = {}
+        self._resting: dict[str, Pose] = {}
         poses = tuple((o.name, Pose.of(o.position, quat_from_yaw(o.yaw))) for o in spec.objects)
         arms = tuple(ArmState(a.model.rest, Pose.of(a.spec.base, quat_from_yaw(a.spec.yaw)),
                               a.spec.start) for a in self.arms.values())
@@ -269,6 +270,7 @@ class PyBulletWorld:
     def _sync(self, state: WorldState, force: bool = False) -> None:
         """Make the bodies match ``state``, touching only what changed."""
         old = self._state
+        self._unrest(state)
         before, after = old.all_held(), state.all_held()
         for name in (before - after) | (before if force else frozenset()):
             self._set_group(name, G_MOVABLE, G_ROBOT | G_HELD | G_UAV)
@@ -294,8 +296,23 @@ class PyBulletWorld:
             self._bases[name] = base
 
     def _limbo(self, name: str) -> Pose:
-        """Where removed objects wait: far below the floor, apart from each other."""
-        return Pose((0.0, 10.0 * self.body[name], -100.0))
+        """Where removed objects wait: far below the floor, apart from each other —
+        or where physics let them come to rest (:meth:`rest_removed`)."""
+        return self._resting.get(name) or Pose((0.0, 10.0 * self.body[name], -100.0))
+
+    # ---- issue 13 hook: a removed object drawn where physics put it (physics.py)
+    def rest_removed(self, name: str, pose: Pose) -> None:
+        """Removed object ``name`` lies at ``pose`` (e.g. in the tray): drawn there, out
+        of the robot's way (only objects and surfaces collide with it)."""
+        self._resting[name] = pose
+        self._set_group(name, G_MOVABLE, G_MOVABLE | G_STATIC)
+        self._place_body(name, pose)
+
+    def _unrest(self, state: WorldState) -> None:
+        """Objects no longer removed in ``state`` collide with the robot again."""
+        for name in [n for n in self._resting if n not in state.removed]:
+            del self._resting[name]
+            self._set_group(name, G_MOVABLE, G_ROBOT | G_HELD | G_UAV)
 
     def _set_group(self, name: str, group: int, mask: int) -> None:
         p.setCollisionFilterGroupMask(self.body[name], -1, group, mask,
