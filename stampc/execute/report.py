@@ -10,7 +10,7 @@ from typing import Any, Mapping
 
 from stampc.execute.runner import Run
 from stampc.refine.replay import DEAD_END, FAILURE, SUCCESS, UNREFINED
-from stampc.solvers.simulate import wilson_interval
+from stampc.solvers.simulation import wilson_interval
 
 Z99 = 2.5758293035489004  # two-sided 99 % normal quantile
 

@@ -15,7 +15,7 @@ from stampc.execute.report import Z99
 from stampc.execute.session import execute_file
 from stampc.execute.truth import build_truth, predicted_success, true_lifted_model
 from stampc.ir import lifted as L
-from stampc.solvers.simulate import wilson_interval
+from stampc.solvers.simulation import wilson_interval
 
 
 def _risky_picks(policy: dict) -> int:
