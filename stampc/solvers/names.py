@@ -2,6 +2,6 @@
 the solvers)."""
 
 ALGORITHMS = ("lao", "lrtdp", "vi")
-HEURISTICS = ("zero", "hmax", "hadd", "hff")
+HEURISTICS = ("zero", "hmax", "lmcut", "hadd", "hff")
 #: Whether each heuristic never overestimates the optimal cost (LAO*/LRTDP optimality).
-ADMISSIBLE = {"zero": True, "hmax": True, "hadd": False, "hff": False}
+ADMISSIBLE = {"zero": True, "hmax": True, "lmcut": True, "hadd": False, "hff": False}
