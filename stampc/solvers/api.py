@@ -8,7 +8,8 @@ import time
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.grounded import GroundModel
 from stampc.solvers.core import Search, SolverTimeout
-from stampc.solvers.heuristics import HEURISTICS, make_heuristic
+from stampc.solvers.heuristic_choice import make_heuristic
+from stampc.solvers.heuristics import HEURISTICS
 from stampc.solvers.lao import lao
 from stampc.solvers.lrtdp import lrtdp
 from stampc.solvers.solution import ALGORITHMS, Solution, SolverOptions

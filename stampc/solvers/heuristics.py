@@ -248,9 +248,6 @@ def make_heuristic(name: str, model: GroundModel, unit_cost: bool,
     """A cached state -> cost-to-go estimate (``inf`` marks a recognised dead end)."""
     if name == "zero":
         return lambda state: 0.0
-    if name == "lmcut":  # issue 15: LM-cut lives in its own module
-        from stampc.solvers.lmcut import make_lmcut
-        return make_lmcut(model, unit_cost, weight)
     if name not in ("hmax", "hadd", "hff"):
         raise ValueError(f"unknown heuristic {name!r}; choose one of {', '.join(HEURISTICS)}")
     rm = RelaxedModel(model, unit_cost)

@@ -9,7 +9,7 @@ from ssp_builders import random_conditional_model, random_model, reference_value
 
 from stampc import api
 from stampc.solvers import SolverOptions, solve
-from stampc.solvers.heuristics import make_heuristic
+from stampc.solvers.heuristic_choice import make_heuristic
 
 D = 50.0
 
