@@ -76,8 +76,8 @@ def _print_text(report: dict) -> None:
     print(f"time              solve {report['solve_time_s']:.3f} s, parse+ground "
           f"{report['parse_ground_s']:.3f} s, total {report['total_time_s']:.3f} s")
     if not report["converged"]:
-        print("warning: stopped before convergence (time limit, or gap above target); "
-              "see the bounds")
+        print("warning: not converged (time limit reached before convergence, or the gap "
+              "stayed above the target); values are bounds, see above")
     sim = report.get("simulation")
     if sim:
         lo, hi = sim["cost_ci95"]

@@ -164,8 +164,9 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
 
 def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool = True,
                   init: int | None = None) -> tuple[Solution, Bounds]:
-    """Solve, then tighten the residual until the certified gap meets ``options.epsilon``
-    (or the time limit stops it: ``solution.converged`` is then false)."""
+    """Solve, then tighten the residual until the certified gap meets ``options.epsilon``.
+    ``solution.converged`` is false when the time limit stopped a run or the gap stayed
+    above the target."""
     from stampc.solvers.api import solve
 
     start = time.perf_counter()
@@ -189,7 +190,9 @@ def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool 
         solution = solve(model, tighter, init=solution.init, warm=solution)
         expanded += solution.states_expanded
         rounds += 1
-    converged = bounds.certified if lower_ok else solution.converged
+    # a run stopped by the time limit stays "not converged" (exit 3) even if its bounds
+    # happen to meet: ``bounds.certified`` says so separately
+    converged = solution.converged and (bounds.certified or not lower_ok)
     final = dataclasses.replace(solution, options=options, states_expanded=expanded,
                                 solve_time_s=time.perf_counter() - start,
                                 converged=converged)
