@@ -16,7 +16,14 @@ fairer figure (the wall time includes waiting for a core).
     python bench/ssp.py                 # the 13 instances of issue #4, LAO*
     python bench/ssp.py --quick         # a fast subset
     python bench/ssp.py --algorithm lrtdp
-    python bench/ssp.py --all           # every problem under the benchmark folder
+    python bench/ssp.py --all           # every LAO* instance of anchors-mdplib.csv, 60 s each
+    python bench/ssp.py --all --every 10 # a subset: every 10th of them
+
+Our runs use certified bounds (the `stampc solve` default): an instance counts as solved
+when the relative gap between the lower and upper bound on V0 is <= 1e-4 within the cap.
+A C++ row counts as solved when anchors-mdplib.csv says so. `--all` ends with how many
+are solved by us alone, by the C++ alone and by both, the total whole-process time over
+the both-solved ones, and each C++ V0 that falls outside our certified interval.
 """
 
 from __future__ import annotations
@@ -84,12 +91,33 @@ def load_anchors() -> dict[tuple[str, str], dict]:
 
 
 def all_instances() -> list[str]:
-    found = []
-    for path in sorted(BENCH.glob("*/*.pddl")):
-        if path.name in ("domain.pddl",):
-            continue
-        found.append(str(path.relative_to(BENCH)))
+    """Every instance with a LAO* row in anchors-mdplib.csv, in file order."""
+    found: list[str] = []
+    with (BENCH / "anchors-mdplib.csv").open(newline="") as fh:
+        for row in csv.DictReader(fh):
+            if row["solver"].startswith(SOLVER_NAMES["lao"]) and row["instance"] not in found:
+                found.append(row["instance"])
     return found
+
+
+def _summary(outcomes: list[tuple[str, bool, bool, float, float]],
+             outside: list[str]) -> None:
+    """outcomes: (instance, ours solved, C++ solved, our process s, C++ wall s)."""
+    ours = sum(o for _, o, _, _, _ in outcomes)
+    both = [(w, c) for _, o, k, w, c in outcomes if o and k]
+    only_ours = [i for i, o, k, _, _ in outcomes if o and not k]
+    only_cpp = [i for i, o, k, _, _ in outcomes if k and not o]
+    print(f"\n{len(outcomes)} instances: certified by us {ours}; by us alone {len(only_ours)}; "
+          f"by C++ alone {len(only_cpp)}; by both {len(both)}")
+    if both:
+        mine, theirs = sum(w for w, _ in both), sum(c for _, c in both)
+        print(f"both-solved total (whole process): ours {mine:.2f} s, C++ {theirs:.2f} s, "
+              f"ratio {mine / theirs:.2f}")
+    for name, group in (("us alone", only_ours), ("C++ alone", only_cpp)):
+        if group:
+            print(f"solved by {name}: {', '.join(group)}")
+    for line in outside:
+        print(f"C++ V0 outside our certified bounds: {line}")
 
 
 def _child_cpu() -> float:
@@ -132,6 +160,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--heuristic", default="hmax")
     parser.add_argument("--simulations", type=int, default=200,
                         help="simulated runs per instance (the C++ figures include 200)")
+    parser.add_argument("--every", type=int, default=1,
+                        help="with --all: run every N-th instance only (a subset)")
     parser.add_argument("instances", nargs="*", help="explicit instances (relative paths)")
     args = parser.parse_args(argv)
     if not BENCH.is_dir():
@@ -139,6 +169,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     instances = (args.instances or (all_instances() if args.all else QUICK if args.quick
                  else STRETCH if args.stretch else LISTED))
+    instances = instances[::max(1, args.every)]
+    outcomes: list[tuple[str, bool, bool, float, float]] = []
+    outside: list[str] = []
     anchors = load_anchors()
     # An untimed run first, as any first use does: bytecode and the grammar cache.
     run_one(instances[0], args.algorithm, args.heuristic, 0)
@@ -156,6 +189,13 @@ def main(argv: list[str] | None = None) -> int:
         result = run_one(instance, args.algorithm, args.heuristic, args.simulations)
         ref = anchors.get((instance, args.algorithm), {})
         solved = ref.get("status") == "solved"
+        outcomes.append((instance, result["status"] == "solved", solved, result["wall_s"],
+                         float(ref["wall_s"]) if solved else 0.0))
+        if result["status"] == "solved" and solved and result.get("lower_bound") is not None:
+            cpp = float(ref["V0_expected_cost"])
+            if not result["lower_bound"] - 1e-6 <= cpp <= result["upper_bound"] + 1e-6:
+                outside.append(f"{instance}: C++ {cpp:.6f}, ours [{result['lower_bound']:.6f}, "
+                               f"{result['upper_bound']:.6f}]")
         if result["status"] != "solved":
             print(f"{instance:46} {result['status']} after {result['wall_s']:.1f} s"
                   f" (C++: {ref.get('status', 'n/a')})")
@@ -180,6 +220,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{result['expected_cost']:11.6f} {_fmt(dv, '8.1e'):>8} "
               f"{result['states_expanded']:8d}")
         sys.stdout.flush()
+    _summary(outcomes, outside)
     if totals["cpp_wall"]:
         t = totals
         print(f"\ntotals over instances both solve:\n"

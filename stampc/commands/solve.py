@@ -29,7 +29,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--weight", type=heuristic_weight, default=1.0,
                         help="heuristic weight (weighted LAO*; default 1)")
     parser.add_argument("--epsilon", type=positive_float, default=1e-4,
-                        help="Bellman residual to converge")
+                        help="target gap between the certified lower and upper bounds on the "
+                             "optimal cost (relative: upper - lower <= eps * upper; see "
+                             "--absolute-gap); without bounds, the Bellman residual")
+    parser.add_argument("--absolute-gap", action="store_true",
+                        help="stop when upper - lower <= eps (default: relative gap)")
+    parser.add_argument("--no-bounds", action="store_true",
+                        help="one run to Bellman residual eps, no certified bounds")
     parser.add_argument("--dead-end-cost", type=positive_float, default=500.0,
                         help="give-up cost D: dead ends cost D and every Q-value is capped at D")
     parser.add_argument("--unit-cost", action="store_true",
@@ -49,11 +55,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_import_options(parser)
 
 
-def _report(args, solution, sim, parse_ground_s: float, total_s: float, cpu_s: float) -> dict:
+def _report(args, solution, bounds, sim, parse_ground_s: float, total_s: float,
+            cpu_s: float) -> dict:
     from stampc.solvers.export import summary
 
     out = {"files": args.files, **summary(solution), "parse_ground_s": parse_ground_s,
            "total_time_s": total_s, "cpu_time_s": cpu_s}
+    if bounds is not None:
+        out.update(bounds.as_json())
     if sim is not None:
         out["simulation"] = asdict(sim)
     return out
@@ -62,12 +71,15 @@ def _report(args, solution, sim, parse_ground_s: float, total_s: float, cpu_s: f
 def _print_text(report: dict) -> None:
     print(f"expected cost     {report['expected_cost']:.6f}")
     print(f"goal probability  {report['goal_probability']:.6f}")
+    if "upper_bound" in report:
+        _print_bounds(report)
     print(f"states expanded   {report['states_expanded']} "
           f"(generated {report['states_generated']})")
     print(f"time              solve {report['solve_time_s']:.3f} s, parse+ground "
           f"{report['parse_ground_s']:.3f} s, total {report['total_time_s']:.3f} s")
     if not report["converged"]:
-        print("warning: time limit reached before convergence; values are lower bounds")
+        print("warning: not converged (time limit reached before convergence, or the gap "
+              "stayed above the target); values are bounds, see above")
     sim = report.get("simulation")
     if sim:
         lo, hi = sim["cost_ci95"]
@@ -75,6 +87,17 @@ def _print_text(report: dict) -> None:
         print(f"simulation        {sim['runs']} runs (seed {sim['seed']}): cost "
               f"{sim['mean_cost']:.4f} [95% CI {lo:.4f}, {hi:.4f}], goal rate "
               f"{sim['goal_rate']:.4f} [{glo:.4f}, {ghi:.4f}]")
+
+
+def _print_bounds(report: dict) -> None:
+    if report["lower_bound"] is None:
+        print(f"policy cost       {report['upper_bound']:.6f} (evaluated; inadmissible "
+              f"mode: no optimality claim), goal probability "
+              f"{report['policy_goal_probability']:.6f}")
+        return
+    print(f"bounds on V*      [{report['lower_bound']:.6f}, {report['upper_bound']:.6f}] "
+          f"gap {report['gap']:.3g} ({report['gap_mode']}: {report['relative_gap']:.3g} "
+          f"relative){'' if report['certified'] else ' NOT certified'}")
 
 
 @reports_errors("solve")
@@ -105,12 +128,17 @@ def run(args: argparse.Namespace) -> int:
     model = api.ground(lifted, conflicting_effects=args.conflicting_effects)
     print_warnings(lifted.diagnostics + model.diagnostics)
     parse_ground_s = time.perf_counter() - start
-    solution = solve(model, options)
+    bounds = None
+    if args.no_bounds:
+        solution = solve(model, options)
+    else:
+        from stampc.solvers.bounds import solve_bounded
+        solution, bounds = solve_bounded(model, options, relative=not args.absolute_gap)
     total_s = time.perf_counter() - start
     cpu_s = time.process_time() - cpu_start  # robust to other load on a shared machine
     sim = (simulate(model, solution, runs=args.simulate, seed=args.seed, max_steps=args.max_steps)
            if args.simulate else None)
-    report = _report(args, solution, sim, parse_ground_s, total_s, cpu_s)
+    report = _report(args, solution, bounds, sim, parse_ground_s, total_s, cpu_s)
     try:
         if args.output:
             write_policy_json(args.output, model, solution)

@@ -11,7 +11,7 @@ from stampc.lazy import lazy_exports
 
 _LAZY = {name: f"stampc.solvers.{module}" for name, module in {
     "ADMISSIBLE": "names", "ALGORITHMS": "names", "HEURISTICS": "names",
-    "check_options": "api", "solve": "api", "make_heuristic": "heuristics",
+    "check_options": "api", "solve": "api", "make_heuristic": "heuristic_choice",
     "SimulationResult": "simulation", "simulate": "simulation",
     "Solution": "solution", "SolverOptions": "solution", "SuccessorCache": "successors",
     "TreeEdge": "tree", "TreeNode": "tree", "count_leaves": "tree", "iter_paths": "tree",

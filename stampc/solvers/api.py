@@ -8,7 +8,8 @@ import time
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.grounded import GroundModel
 from stampc.solvers.core import Search, SolverTimeout
-from stampc.solvers.heuristics import HEURISTICS, make_heuristic
+from stampc.solvers.heuristic_choice import make_heuristic
+from stampc.solvers.heuristics import HEURISTICS
 from stampc.solvers.lao import lao
 from stampc.solvers.lrtdp import lrtdp
 from stampc.solvers.solution import ALGORITHMS, Solution, SolverOptions
@@ -85,7 +86,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
     if horizon is not None:
         steps = h if options.unit_cost and options.heuristic == "hmax" else \
             make_heuristic("hmax", model, True)
-        if options.algorithm != "vi":  # VI enumerates everything: no use for a guide
+        if options.algorithm not in ("vi", "tvi"):  # VI enumerates everything: no guide
             guide = Search(Space(cache, h, options.dead_end_cost, None, options.forbidden))
     space = Space(cache, h, options.dead_end_cost, horizon, options.forbidden,
                   warm=warm_values, guide=guide.V if guide else None, steps=steps)
@@ -128,6 +129,9 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
             lao(search, x0, options.epsilon)
         elif options.algorithm == "lrtdp":
             lrtdp(search, x0, options.epsilon, options.seed)
+        elif options.algorithm == "tvi":  # issue 15: topological VI in its own module
+            from stampc.solvers.tvi import topological_vi
+            topological_vi(search, x0, options.epsilon)
         else:
             value_iteration(search, x0, options.epsilon)
     except SolverTimeout:

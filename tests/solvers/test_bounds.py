@@ -1,0 +1,134 @@
+"""Certified bounds (stampc.solvers.bounds): they bracket the exact optimal value."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from ssp_builders import (ModelBuilder, random_conditional_model, random_model,
+                          reference_finite, reference_values)
+
+from stampc import api
+from stampc.cli import main
+from stampc.solvers import SolverOptions, solve
+from stampc.solvers.bounds import evaluate_policy, solve_bounded
+from stampc.solvers.core import Search
+from stampc.solvers.heuristics import make_heuristic
+from stampc.solvers.space import Space
+from stampc.solvers.successors import SuccessorCache
+
+D = 50.0
+
+
+@pytest.mark.parametrize("algorithm", ["lao", "lrtdp", "vi"])
+@pytest.mark.parametrize("make", [random_model, random_conditional_model])
+def test_bounds_bracket_exact_value_on_random_ssps(make, algorithm):
+    for seed in range(60):
+        model = make(seed)
+        exact = reference_values(model, D)[model.init]
+        _, b = solve_bounded(model, SolverOptions(algorithm=algorithm, dead_end_cost=D,
+                                                  epsilon=1e-6))
+        assert b.lower - 1e-9 <= exact <= b.upper + 1e-9, (seed, b)
+        assert b.certified and b.gap <= 1e-6 * b.upper + 1e-12
+
+
+def test_absolute_gap_mode_meets_absolute_target():
+    for seed in range(30):
+        model = random_model(seed)
+        exact = reference_values(model, D)[model.init]
+        sol, b = solve_bounded(model, SolverOptions(dead_end_cost=D, epsilon=1e-3),
+                               relative=False)
+        assert not b.relative and b.gap <= 1e-3 and sol.converged
+        assert b.lower - 1e-9 <= exact <= b.upper + 1e-9
+
+
+@pytest.mark.parametrize("heuristic,weight", [("hff", 1.0), ("hadd", 1.0), ("hmax", 3.0)])
+def test_inadmissible_modes_report_policy_value_without_lower_bound(heuristic, weight):
+    for seed in range(40):
+        model = random_model(seed)
+        exact = reference_values(model, D)[model.init]
+        _, b = solve_bounded(model, SolverOptions(heuristic=heuristic, weight=weight,
+                                                  dead_end_cost=D))
+        assert b.lower is None and b.gap is None and not b.certified
+        assert b.upper >= exact - 1e-9  # a real policy's cost: never below the optimum
+        assert 0.0 <= b.goal_probability <= 1.0
+
+
+def test_policy_of_a_search_cut_short_is_still_an_upper_bound():
+    """Unexpanded tips give up (cost D): the evaluated policy is real, its cost >= V*."""
+    for seed in range(40):
+        model = random_model(seed, n_facts=6, n_actions=9)
+        exact = reference_values(model, D)[model.init]
+        cache = SuccessorCache(model)
+        search = Search(Space(cache, make_heuristic("hmax", model, False), D))
+        search.seed(model.init)
+        if model.init not in search.terminal:
+            search.expand(model.init)
+            if model.init not in search.terminal:
+                search.backup(model.init)
+        value = evaluate_policy(search, model.init)
+        assert exact <= value.upper + 1e-9
+        assert search.V[model.init] <= exact + 1e-9
+
+
+def test_finite_horizon_bounds_bracket_backward_induction():
+    for seed in range(30):
+        model = random_model(seed)
+        exact = reference_finite(model, D, horizon=4)
+        _, b = solve_bounded(model, SolverOptions(dead_end_cost=D, horizon=4, epsilon=1e-8))
+        assert b.lower - 1e-9 <= exact <= b.upper + 1e-9
+
+
+def test_gap_is_closed_where_a_bellman_residual_stops_short():
+    """A slowly mixing two-state cycle: a residual of 1e-3 stops LAO* far below V*; the
+    certified loop keeps tightening until the bounds meet."""
+    b = ModelBuilder(["x", "goal"])
+    b.action("flip", neg=["x"], outcomes=[(0.98, ["x"], []), (0.02, ["goal"], [])])
+    b.action("back", pre=["x"], outcomes=[(0.98, [], ["x"]), (0.02, ["goal"], [])])
+    model = b.build(init=[], goal=["goal"])
+    exact = reference_values(model, 500.0)[model.init]  # 50
+    plain = solve(model, SolverOptions(dead_end_cost=500, epsilon=1e-3))
+    assert exact - plain.expected_cost > 1e-3
+    sol, bnd = solve_bounded(model, SolverOptions(dead_end_cost=500, epsilon=1e-8),
+                             relative=False)
+    assert bnd.lower - 1e-9 <= exact <= bnd.upper + 1e-9 and bnd.certified
+    assert bnd.gap <= 1e-8 and bnd.rounds > 1 and sol.converged
+
+
+PPDDL = ["ippc2006-tireworld/p03.pddl", "ippc2006-pitchcatch/p01.pddl",
+         "ippc2008-blocksworld/p01.pddl", "ippc2008-triangle-tireworld/p01.pddl"]  # ex-blocksworld p01: VI at 1e-12 takes minutes
+
+
+@pytest.mark.parametrize("instance", PPDDL)
+def test_bounds_bracket_value_iteration_on_ippc_instances(ppddl_benchmarks, instance):
+    model = api.ground(api.load_model([str(ppddl_benchmarks / instance)]))
+    exact = solve(model, SolverOptions(algorithm="vi", heuristic="zero", unit_cost=True,
+                                       epsilon=1e-12)).expected_cost
+    _, b = solve_bounded(model, SolverOptions(unit_cost=True, epsilon=1e-4))
+    assert b.lower - 1e-7 <= exact <= b.upper + 1e-7
+    assert b.certified and b.gap <= 1e-4 * b.upper
+
+
+COIN = """
+(define (domain coin)
+  (:requirements :probabilistic-effects)
+  (:predicates (heads) (broken))
+  (:action flip :precondition (not (broken))
+    :effect (probabilistic 1/4 (heads) 1/4 (broken))))
+(define (problem toss) (:domain coin) (:init) (:goal (heads)))
+"""
+
+
+def test_cli_json_reports_bounds_by_default(tmp_path, capsys):
+    path = tmp_path / "coin.pddl"
+    path.write_text(COIN)
+    assert main(["solve", str(path), "--format", "json", "--dead-end-cost", "10"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["lower_bound"] <= 7.0 <= report["upper_bound"]
+    assert report["gap"] <= 1e-4 * 7 and report["gap_mode"] == "relative"
+    assert report["policy_goal_probability"] == pytest.approx(0.5)
+    assert main(["solve", str(path), "--format", "json", "--no-bounds"]) == 0
+    assert "lower_bound" not in json.loads(capsys.readouterr().out)
+    assert main(["solve", str(path), "--format", "json", "--heuristic", "hff"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["lower_bound"] is None and report["policy_cost"] >= 7.0 - 1e-9
