@@ -43,6 +43,7 @@ def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
         entry: dict[str, Any] = {
             "id": uid, "depth": node.depth, "state": _facts(model, node.state),
             "leaf": node.leaf, "refined": node.refined,
+            **({"proven": node.proven} if node.leaf == "dead_end" else {}),
             "learned": [{"fact": str(model.facts[f]), "value": v} for f, v in node.learned],
         }
         if node.leaf == "goal":
@@ -148,6 +149,9 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any]) -> dict:
             "wall_time_s": result.wall_time_s, "time_to_coverage": result.time_to_coverage,
             "prg_nodes": result.prg_nodes, "refined_paths": result.refined_paths,
             "refined_nodes": result.refined_nodes, "abstract_solves": result.abstract_solves,
+            "goal_mass": result.goal_mass, "dead_end_mass": result.dead_end_mass,
+            "unrefined_mass": result.unrefined_mass, "solver_timeouts": result.solver_timeouts,
+            "resamples": result.resamples,
             "seed": result.seed, "stop_reason": result.stop_reason}
 
 

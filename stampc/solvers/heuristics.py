@@ -139,7 +139,8 @@ def _open_counts(rm: RelaxedModel, state: int) -> list[int]:
     Counting with bit operations up front means the searches below only ever touch
     literals that are *not* already true — most literals of a state (e.g. the many
     ``not collision(x, t)``) are, and walking them per evaluation dominated the cost."""
-    return [(m & ~state).bit_count() for m in rm.pre_masks]
+    lacking = ~state
+    return [(m & lacking).bit_count() for m in rm.pre_masks]
 
 
 def _hmax_layered(rm: RelaxedModel, state: int, unit: float) -> float:
