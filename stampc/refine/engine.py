@@ -227,6 +227,8 @@ class Engine:
         result = self.concretizer.concretize(
             action, node.concrete.snapshot, node.concrete.cache, values,
             node_uid=node.uid, attempt=node.attempts, quick=quick)
+        if not isinstance(result, Success) and self.concretizer.past_deadline():
+            return "stopped", f"{action.label}: time limit reached while sampling"
         if isinstance(result, Success):
             self._commit(graph, node, result.sigma, values)
             self._track(self.current, graph)
@@ -242,7 +244,7 @@ class Engine:
         for k, edge in enumerate(node.edges):
             snap = self.concretizer.execute(action, edge.successor, edge.outcome,
                                             node.concrete.snapshot, node.concrete.cache,
-                                            env, node.uid)
+                                            env, node.uid, node.state)
             key = merge(snap) if merge else None
             target = self._merge_target(graph, graph[edge.child].state, key)
             if target is None:

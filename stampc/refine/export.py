@@ -15,6 +15,7 @@ from typing import Any, Mapping
 from stampc.ir.grounded import GroundModel, bits
 from stampc.refine.graph import PolicyGraph
 from stampc.refine.options import RefineResult
+from stampc.refine.outcomes import outcome_labels
 from stampc.worlds.base import to_json
 
 POLICY_FORMAT = "stampc-policy"
@@ -56,8 +57,10 @@ def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
             entry["args"] = {p.name: a for p, a in zip(schema.params, action.args)}
             if node.sigma is not None:
                 entry["sigma"] = {k: to_json(v) for k, v in sorted(node.sigma.items())}
+            names = outcome_labels(action, node.state)
             entry["outcomes"] = [{
                 "probability": e.probability, "child": e.child,
+                **({"name": "+".join(names[e.outcome])} if names[e.outcome] else {}),
                 "adds": _literals(model, e.successor.add),
                 "deletes": _literals(model, e.successor.delete & ~e.successor.add),
             } for e in node.edges]

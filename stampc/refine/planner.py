@@ -110,7 +110,8 @@ class AbstractPlanner:
             return self._graft_forced(graph, state, depth, horizon, forced_action)
         solution = self.solve_from(state, learned)
         remaining = max(0, horizon - depth)
-        tree = policy_tree(self.solve_model, solution, init=state, depth=remaining)
+        tree = policy_tree(self.solve_model, solution, init=state, depth=remaining,
+                           planned_only=not solution.converged)
         return self._add_tree(graph, tree, depth)
 
     def _graft_forced(self, graph: PolicyGraph, state: int, depth: int, horizon: int,

@@ -164,7 +164,8 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
     seen: set[Traj] = set()
     for static_only in (False, True):
         for attempt in range(budget):
-            settings = PlanSettings(base.planner, base.max_checks, base.time_limit,
+            settings = PlanSettings(base.planner, base.max_checks,
+                                    ctx.time_left(base.time_limit),  # the run's deadline
                                     static_only, straight=attempt == 0)
             traj = plan_trajectory(world, q, ctx.rng, settings, stats)
             world.set_arm(world.state.q)
