@@ -294,12 +294,14 @@ class Engine:
         return self._update(graph, node, (), "ban")
 
     def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...]) -> Node | None:
-        """The nearest refined ancestor with generated values that may be re-sampled."""
-        for uid in reversed(path[:-1]):
-            anc = graph[uid]
-            if anc.refined and anc.sigma and anc.resamples < self.options.max_resamples:
-                return anc
-        return None
+        """The refined ancestor (with generated values) re-sampled least often so far,
+        the nearest among equals: which earlier choice blocks the failing action is not
+        known, so the re-draws are spread over the ancestors instead of exhausting the
+        nearest one first."""
+        candidates = [graph[u] for u in reversed(path[:-1])
+                      if graph[u].refined and graph[u].sigma
+                      and graph[u].resamples < self.options.max_resamples]
+        return min(candidates, key=lambda n: n.resamples) if candidates else None
 
     def _resample(self, graph: PolicyGraph, ancestor: Node, failed: Node) -> tuple[str, str]:
         """Backtrack: draw fresh generator values for ``ancestor``. Every refinement below

@@ -92,7 +92,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
         if warm.options.forbidden == options.forbidden:
             # Same transitions: continue from a copy of the whole table set.
             space = copy.copy(old.space)
-            space.transfer = transfer
+            space.transfer, space.transferred = transfer, 0
             search = Search(space, options.time_limit)
             search.V = dict(old.V)
             search.best = dict(old.best)

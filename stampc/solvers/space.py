@@ -47,6 +47,8 @@ class Space:
         #: node -> estimate carried over from a previous solve (``api._transfer``), or
         #: None; used instead of the heuristic when it answers
         self.transfer: Callable[[int], float | None] | None = None
+        #: nodes whose initial value came from ``transfer`` (statistics)
+        self.transferred = 0
 
     # ----------------------------------------------------------- encoding
     def node(self, state: int, t: int = 0) -> int:
@@ -79,6 +81,7 @@ class Space:
         if self.transfer is not None:
             carried = self.transfer(node)
             if carried is not None:
+                self.transferred += 1
                 return (carried if carried < d else d), False
         h = self.h(state)
         if h == math.inf:
