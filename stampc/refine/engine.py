@@ -9,8 +9,10 @@ the best p/ĉ, and works on its first unrefined action:
   outcomes are executed in the world to give the children their concrete states;
 - *UpdateAbstraction*: when no sample works, the true values of the violated ``?``
   literals are written into the abstract state at that node, the policy below it is
-  discarded and the SSP is re-solved from there (a new PRG child). Refined ancestors are
-  never changed — a failure below a refined prefix always replans below it.
+  discarded and the SSP is re-solved from there (a new PRG child), incrementally;
+- *backtracking over refined ancestors*: when a node keeps failing with nothing to learn,
+  an ancestor's generator values are re-drawn and the refinements below it invalidated
+  (a new PRG child too); only after that is the action banned there.
 
 Mode choice, the explore step and iterative-broadening DFS follow the paper; horizon
 leaves are extended (dynamic horizon growth) when they are selected.
