@@ -204,7 +204,11 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     for i, c in enumerate(counts):
         if not c:
             ci = costs[i]
-            for g in iter_bits(add_masks[i] & open_mask):
+            m = add_masks[i] & open_mask
+            while m:  # inline bit iteration: this loop is the hottest of the solver
+                low = m & -m
+                m ^= low
+                g = low.bit_length() - 1
                 if ci < best.get(g, math.inf):
                     best[g], supporter[g] = ci, i
                     heap.append((ci, g))
@@ -213,8 +217,9 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     remaining = len(goal)
     done: set[int] = set()
     total = 0.0
+    heappop, heappush = heapq.heappop, heapq.heappush
     while heap:
-        c, f = heapq.heappop(heap)
+        c, f = heappop(heap)
         if f in done:
             continue
         done.add(f)
@@ -229,14 +234,21 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
                 continue
             if additive:  # only open preconditions cost anything
                 base = costs[i]
-                for p in iter_bits(pre_masks[i] & open_mask):
-                    base += best[p]
+                m = pre_masks[i] & open_mask
+                while m:
+                    low = m & -m
+                    m ^= low
+                    base += best[low.bit_length() - 1]
             else:
                 base = c + costs[i]  # settled in non-decreasing order: c is the max
-            for g in iter_bits(add_masks[i] & open_mask):
+            m = add_masks[i] & open_mask
+            while m:
+                low = m & -m
+                m ^= low
+                g = low.bit_length() - 1
                 if base < best.get(g, math.inf):
                     best[g], supporter[g] = base, i
-                    heapq.heappush(heap, (base, g))
+                    heappush(heap, (base, g))
     return math.inf
 
 
