@@ -281,7 +281,7 @@ class Engine:
                     failure: Failure) -> tuple[str, str]:
         node = graph[path[-1]]
         if failure.violated:
-            return self._update(graph, node, failure.violated, "update")
+            return self._update(graph, node, failure.violated, "update", path)
         node.attempts += 1
         if self.rng.random() < self.options.explore_probability:
             return self._update(graph, node, (), "explore")  # replans with a random action
@@ -327,7 +327,8 @@ class Engine:
         return "resample", (f"{label}: new generator values (no refinement of "
                             f"{self.model.actions[failed.action].label} below it)")
 
-    def _update(self, graph: PolicyGraph, node: Node, learned, kind: str) -> tuple[str, str]:
+    def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
+                path: tuple[int, ...] = ()) -> tuple[str, str]:
         """UpdateAbstraction: write the true facts at ``node``, replan below it (new PRG node)."""
         new_graph = graph.copy()
         target = new_graph[node.uid]
@@ -353,6 +354,12 @@ class Engine:
         self.prg.add_edge(self.current, v, node=node.uid, failed_preconditions=facts,
                           concretization=sorted(map(str, (node.sigma or {}).keys())))
         if failed:
+            # UpdateAbstraction cannot help: revise an earlier choice on the path first
+            # (Alg. 1), then fall back to the PRG's iterative broadening
+            ancestor = self._resample_target(graph, path) if path else None
+            if ancestor is not None:
+                graph[node.uid].attempts += 1  # the failed node draws fresh samples too
+                return self._resample(graph, ancestor, node)
             return self._backtrack(node.uid)
         self.current = v
         self._track(v, new_graph)

@@ -119,12 +119,12 @@ def test_time_limit_is_honoured_on_a_hard_instance(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "stampc", "refine",
                            str(ROOT / "examples" / "cluttered_table" / "domain.stamp"),
                            str(problem), "--world", "pybullet", "--time-limit", "2", "--quiet",
-                           "-o", str(out)], capture_output=True, text=True, cwd=ROOT, timeout=120)
+                           "-o", str(out)], capture_output=True, text=True, cwd=ROOT, timeout=300)
     wall = time.perf_counter() - start
     import json
     summary = json.loads((out / "summary.json").read_text())
     # the engine's own clock: limit + max(1 s, 2 %); the process adds start-up (imports,
     # compiling, grounding, opening PyBullet) and writing the outputs
     assert summary["wall_time_s"] <= 2.0 + 1.0, summary
-    assert wall < 30, wall
+    assert wall < 180, wall  # no run-away (start-up alone takes seconds on a loaded machine)
     assert proc.returncode != 0 or summary["coverage"] >= 1.0 - 1e-9

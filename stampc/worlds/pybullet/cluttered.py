@@ -64,7 +64,7 @@ def _clear_first(ctx: Context, samples: Iterable[T], config_index: int, o: str) 
 def _unbudgeted(ctx: Context) -> Context:
     options = {k: v for k, v in ctx.options.items() if k != "budget"}
     return Context(world=ctx.world, rng=ctx.rng, options=options, cache=ctx.cache,
-                   values=ctx.values)
+                   values=ctx.values, deadline=ctx.deadline)
 
 
 def grasp(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:

@@ -70,6 +70,8 @@ def grasp(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:
     kinds = str(ctx.options.get("grasps", "any"))
     yielded, budget = 0, _budget(ctx)
     for g in grasp_candidates(world.geometry[o], ctx.rng, kinds):
+        if ctx.time_left(1.0) <= 0.01:
+            return  # the run's deadline has passed: IK for more candidates is wasted
         config = _grasp_config(world, ctx, o, p, g)
         world.set_arm(world.state.q)
         if config is not None:
@@ -164,6 +166,8 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
     seen: set[Traj] = set()
     for static_only in (False, True):
         for attempt in range(budget):
+            if attempt and ctx.time_left(1.0) <= 0.01:
+                return  # past the run's deadline
             settings = PlanSettings(base.planner, base.max_checks,
                                     ctx.time_left(base.time_limit),  # the run's deadline
                                     static_only, straight=attempt == 0)
