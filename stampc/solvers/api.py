@@ -149,6 +149,11 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
     guide_before = len(search.guide.expanded) if search.guide else 0
     expanded_before = len(search.expanded) + guide_before
     converged = True
+    # the root always gets its heuristic value: a carried-over estimate would hide a
+    # root the relaxation recognises as a dead end at once
+    carried, search.space.transfer = search.space.transfer, None
+    search.seed(x0)
+    search.space.transfer = carried
     try:
         search.seed(x0)
         if x0 not in search.terminal:

@@ -65,11 +65,11 @@ def test_unplanned_tips_of_a_timed_out_solve_become_horizon_leaves():
 
 def _learned_shelf_states():
     """The shelf problem, with can1 learned to block every trajectory that picks can0 and
-    then can2 learned to block every pick of can1."""
+    then can2 learned to block them too."""
     gm = stampc.ground(stampc.load_model(SHELF))
     facts = [str(f) for f in gm.facts]
     first = sum(1 << i for i, f in enumerate(facts) if f.startswith("collision(can1, t_pick_can0"))
-    second = sum(1 << i for i, f in enumerate(facts) if f.startswith("collision(can2, t_pick_can1"))
+    second = sum(1 << i for i, f in enumerate(facts) if f.startswith("collision(can2, t_pick_can0"))
     assert first and second
     return gm, gm.init | first, second
 
