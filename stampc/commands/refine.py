@@ -63,7 +63,9 @@ def run(args: argparse.Namespace) -> int:
         run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
                                  scene_overrides=overrides, verbose=args.verbose)
     result = run_.result
-    print(f"coverage {result.coverage:.4f}  goal probability {result.goal_probability:.4f}  "
+    print(f"coverage {result.coverage:.4f} (goal {result.goal_mass:.4f} + proven dead ends "
+          f"{result.dead_end_mass:.4f}; unrefined {result.unrefined_mass:.4f})  "
+          f"goal probability {result.goal_probability:.4f}  "
           f"time {result.wall_time_s:.2f}s  PRG nodes {result.prg_nodes}  "
           f"abstract solves {result.abstract_solves}  ({result.stop_reason})")
     if result.stop_reason == "abstract goal unreachable":
@@ -100,22 +102,26 @@ class _progress:
             from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
             self.progress = Progress(
                 TextColumn("coverage"), BarColumn(), TextColumn("{task.percentage:>5.1f}%"),
-                TextColumn("goal {task.fields[goal]:.3f}  refined {task.fields[refined]}  "
+                TextColumn("goal {task.fields[goal]:.3f}  dead end {task.fields[dead]:.3f}  "
+                           "refined {task.fields[refined]}  "
                            "PRG {task.fields[prg]}"), TimeElapsedColumn(), transient=False)
             self.progress.start()
-            self.task = self.progress.add_task("refine", total=1.0, goal=0.0, refined=0, prg=1)
+            self.task = self.progress.add_task("refine", total=1.0, goal=0.0, dead=0.0,
+                                               refined=0, prg=1)
         return self.on_event
 
     def on_event(self, event) -> None:
         if self.progress is not None:
             self.progress.update(self.task, completed=event.coverage, goal=event.goal_probability,
-                                 refined=event.refined_nodes, prg=event.prg_nodes)
+                                 dead=event.dead_end_mass, refined=event.refined_nodes,
+                                 prg=event.prg_nodes)
             return
         decile = int(event.coverage * 10 + 1e-9)
         if decile > self.last_decile or event.kind == "done":
             self.last_decile = decile
             print(f"[{event.time_s:8.2f}s] coverage {event.coverage:.3f}  goal "
-                  f"{event.goal_probability:.3f}  refined {event.refined_nodes}  "
+                  f"{event.goal_probability:.3f}  dead end {event.dead_end_mass:.3f}  "
+                  f"refined {event.refined_nodes}  "
                   f"PRG {event.prg_nodes}  {event.kind}", file=sys.stderr)
 
     def __exit__(self, *exc) -> None:

@@ -100,6 +100,10 @@ class GProb:
     """An independent probabilistic block; probabilities may sum below 1 (rest: no-op)."""
 
     outcomes: tuple[tuple[Fraction, "GEffect"], ...]
+    #: the outcomes' ``as NAME`` labels (aligned with ``outcomes``; may be empty) and the
+    #: label of the effect-free rest, if one was named — for executors, not semantics
+    labels: tuple[str | None, ...] = field(default=(), compare=False)
+    rest_label: str | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True)

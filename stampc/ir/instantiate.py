@@ -116,16 +116,21 @@ class EffectGrounder:
 
     def _probabilistic(self, e: L.Probabilistic, env: Env) -> GEffect:
         outcomes: list[tuple[Fraction, GEffect]] = []
+        labels: list[str | None] = []
+        rest: list[str] = []  # labels of outcomes without effect (part of the no-op rest)
         for o in e.outcomes:
             if o.probability > 0:
                 sub = self.effect(o.effect, env)
                 if not is_empty(sub):
                     outcomes.append((Fraction(o.probability), sub))
+                    labels.append(o.label)
+                elif o.label:
+                    rest.append(o.label)
         if not outcomes:
             return EMPTY_EFFECT
         if len(outcomes) == 1 and outcomes[0][0] == 1:
             return outcomes[0][1]
-        return GEffect(blocks=(GProb(tuple(outcomes)),))
+        return GEffect(blocks=(GProb(tuple(outcomes), tuple(labels), "|".join(rest) or None),))
 
     def _literal(self, e: L.Lit, env: Env) -> GEffect:
         key = (e.atom.predicate, self.simp.args(e.atom.args, env))

@@ -10,12 +10,14 @@ by the abstract state.
 from __future__ import annotations
 
 import random
+import time
 from dataclasses import dataclass, replace
 from typing import Any, Iterator, Mapping
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.grounded import GroundAction, GroundModel, Successor, bits
-from stampc.worlds.base import ConcreteAction, Context
+from stampc.refine.outcomes import outcome_labels
+from stampc.worlds.base import ConcreteAction, Context, Outcome, call_executor
 from stampc.worlds.bindings import ResolvedBindings
 
 DEFAULT_BUDGET = 4
@@ -56,6 +58,12 @@ class Concretizer:
         self._symbols = frozenset(n for n, t in model.objects if t in continuous)
         self.samples_drawn = 0
         self.evaluations = 0
+        #: the run's absolute deadline: no new sample is drawn past it, and bound
+        #: functions see it as ``ctx.deadline``
+        self.deadline: float | None = None
+
+    def past_deadline(self) -> bool:
+        return self.deadline is not None and time.perf_counter() >= self.deadline
 
     # ----------------------------------------------------------- precondition
     def checks(self, action: GroundAction) -> tuple[tuple[int, bool], ...]:
@@ -145,6 +153,8 @@ class Concretizer:
         except Exception as exc:
             raise self._gen_error(gen, exc) from None
         for _ in range(budget):
+            if self.past_deadline():
+                return
             self.world.restore(snapshot)  # earlier branches may have moved the world
             try:
                 sample = next(stream, None)
@@ -167,20 +177,24 @@ class Concretizer:
                  index: int, options: Mapping[str, Any] | None = None) -> Context:
         rng = random.Random(f"{self.seed}:{uid}:{attempt}:{index}")
         return Context(world=self.world, rng=rng, options=dict(options or {}),
-                       cache=cache, values=values)
+                       cache=cache, values=values, deadline=self.deadline)
 
     # ------------------------------------------------------------ execution
     def execute(self, action: GroundAction, successor: Successor, outcome: int,
-                snapshot: Any, cache: dict, values: Mapping[str, Any], uid: int) -> Any:
-        """Apply the concrete effect of ``action``'s ``outcome``; return the new snapshot."""
+                snapshot: Any, cache: dict, values: Mapping[str, Any], uid: int,
+                state: int) -> Any:
+        """Apply the concrete effect of ``action``'s ``outcome`` (in abstract ``state``);
+        return the new snapshot. An outcome without any literal effect (a slip that
+        leaves everything as it was) leaves the concrete state as it was: the executor
+        is not called, so the child can merge with its parent's concrete state."""
         self.world.restore(snapshot)
         fn = self.bindings.executors.get(action.name)
-        if fn is None:
-            return snapshot  # a purely abstract action (e.g. notify) leaves the world as is
-        concrete = self.concrete_action(action, successor, outcome, values)
+        if fn is None or not (successor.add or successor.delete):
+            return snapshot  # a purely abstract action (e.g. notify), or a no-op outcome
+        concrete = self.concrete_action(action, successor, outcome, values, state)
         ctx = self._context(cache, values, uid, 0, 1000 + outcome)
         try:
-            fn(ctx, concrete)
+            call_executor(fn, ctx, concrete, outcome_of(concrete, float(successor.probability)))
         except StampcError as exc:  # the world's own diagnostic (e.g. S274): code and hint kept
             raise self._world_error(exc, action_name=action.name) from None
         except Exception as exc:
@@ -189,14 +203,15 @@ class Concretizer:
         return self.world.snapshot()
 
     def concrete_action(self, action: GroundAction, successor: Successor, outcome: int,
-                        values: Mapping[str, Any]) -> ConcreteAction:
+                        values: Mapping[str, Any], state: int | None = None) -> ConcreteAction:
         schema = self.model.lifted.domain.actions[action.schema]
         args = {p.name: values.get(a, a) for p, a in zip(schema.params, action.args)}
+        labels = outcome_labels(action, state)[outcome] if state is not None else ()
         return ConcreteAction(
             name=action.name, args=args,
             adds=self._literals(successor.add, values),
             deletes=self._literals(successor.delete & ~successor.add, values),
-            outcome=outcome)
+            outcome=outcome, labels=labels)
 
     def _literals(self, mask: int, values: Mapping[str, Any]):
         facts = self.model.facts
@@ -234,3 +249,9 @@ class Concretizer:
             return next((a.executes.span if a.executes else a.span
                          for a in domain.actions if a.name == action_name), None)
         return None
+
+
+def outcome_of(action: ConcreteAction, probability: float) -> Outcome:
+    """The outcome an outcome-aware executor receives for ``action``'s chosen outcome."""
+    return Outcome("+".join(action.labels) or None, action.outcome, probability,
+                   action.adds, action.deletes)

@@ -9,8 +9,10 @@ the best p/ĉ, and works on its first unrefined action:
   outcomes are executed in the world to give the children their concrete states;
 - *UpdateAbstraction*: when no sample works, the true values of the violated ``?``
   literals are written into the abstract state at that node, the policy below it is
-  discarded and the SSP is re-solved from there (a new PRG child). Refined ancestors are
-  never changed — a failure below a refined prefix always replans below it.
+  discarded and the SSP is re-solved from there (a new PRG child), incrementally;
+- *backtracking over refined ancestors*: when a node keeps failing with nothing to learn,
+  an ancestor's generator values are re-drawn and the refinements below it invalidated
+  (a new PRG child too); only after that is the action banned there.
 
 Mode choice, the explore step and iterative-broadening DFS follow the paper; horizon
 leaves are extended (dynamic horizon growth) when they are selected.
@@ -19,6 +21,7 @@ leaves are extended (dynamic horizon growth) when they are selected.
 from __future__ import annotations
 
 import itertools
+import math
 import random
 import time
 from dataclasses import replace
@@ -28,9 +31,10 @@ import networkx as nx
 
 from stampc.ir.grounded import GroundModel
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
-from stampc.refine.graph import (GOAL, HORIZON, Concrete, Node, PolicyGraph, abstract_goal_probability,
-                                 coverage, goal_probability, iter_leaf_paths, path_is_covered,
-                                 path_values, select_path)
+from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
+                                 abstract_goal_probability, coverage, dead_end_mass,
+                                 detach_subtree, goal_probability, iter_leaf_paths,
+                                 path_is_covered, path_values, select_path)
 from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
 from stampc.refine.planner import AbstractPlanner
 from stampc.worlds.bindings import ResolvedBindings
@@ -47,6 +51,7 @@ class Engine:
         self.rng = random.Random(options.seed)
         self.uids = itertools.count()
         self.planner = AbstractPlanner(model, options.solver, self.uids, options.fallback_solver)
+        self.planner.max_retries = options.solve_retries
         self.concretizer = Concretizer(model, bindings, world, options.seed)
         self.initial_values = dict(world.initial_values())
         self.prg = nx.DiGraph()
@@ -60,6 +65,9 @@ class Engine:
         self.crossed: dict[str, float | None] = {str(t): None for t in THRESHOLDS}
         self.stop_reason = "running"
         self._action_costs: dict[int, float] = {}
+        #: what the current step did beyond its kind (solver retries, fallbacks...)
+        self._notes: list[str] = []
+        self.resamples = 0
         self._start = time.perf_counter()
 
     # ------------------------------------------------------------- driving
@@ -68,6 +76,7 @@ class Engine:
         self._start = time.perf_counter()
         if self.options.time_limit is not None:
             self.planner.deadline = self._start + self.options.time_limit
+            self.concretizer.deadline = self.planner.deadline
         self.planner.solve_time_limit = self.options.solve_time_limit
         initial = self.world.snapshot()
         try:
@@ -101,10 +110,12 @@ class Engine:
     def result(self) -> RefineResult:
         graph = self.best_graph
         cov = coverage(graph) if graph else 0.0
+        goal = goal_probability(graph) if graph else 0.0
+        dead = dead_end_mass(graph) if graph else 0.0
         refined_paths = sum(1 for _, p in iter_leaf_paths(graph) if path_is_covered(graph, p)) if graph else 0
         return RefineResult(
             coverage=cov,
-            goal_probability=goal_probability(graph) if graph else 0.0,
+            goal_probability=goal,
             abstract_goal_probability=abstract_goal_probability(graph) if graph else 0.0,
             wall_time_s=self.elapsed(),
             time_to_coverage=dict(self.crossed),
@@ -114,7 +125,9 @@ class Engine:
             abstract_solves=self.planner.solves,
             seed=self.options.seed,
             stop_reason=self.stop_reason if self.stop_reason != "running" else "interrupted",
-            events=tuple(self.events))
+            events=tuple(self.events),
+            goal_mass=goal, dead_end_mass=dead, unrefined_mass=max(0.0, 1.0 - goal - dead),
+            solver_timeouts=self.planner.timeouts, resamples=self.resamples)
 
     def elapsed(self) -> float:
         return time.perf_counter() - self._start
@@ -132,19 +145,27 @@ class Engine:
         return abstract_goal_probability(graph) > 0
 
     def _graft_growing(self, graph: PolicyGraph, state: int, depth: int,
-                       forced: int | None) -> int:
-        """Plan from ``state`` and graft the policy unrolled for one horizon; while the goal
-        is out of reach only because of the horizon, double it (dynamic horizon growth)."""
+                       forced: int | None, learned: tuple[int, int] | None = None) -> int:
+        """Plan from ``state`` and graft the policy unrolled for one horizon. The horizon
+        is doubled only when a *converged* solve has no goal within it (dynamic horizon
+        growth); a solve cut off by its time cap leaves the horizon as it is."""
         while True:
+            timeouts = self.planner.timeouts
             scratch = PolicyGraph(-1, {})
             scratch.root = self.planner.graft(scratch, state, depth, depth + self.horizon,
-                                              forced_action=forced)
+                                              forced_action=forced, learned=learned)
+            self._notes += self.planner.notes
+            learned = None  # a regrown solve continues from the same tables
             leaves = {n.leaf for n in scratch.nodes.values() if n.is_leaf}
-            if (GOAL in leaves or HORIZON not in leaves
+            converged = self.planner.timeouts == timeouts
+            if (GOAL in leaves or HORIZON not in leaves or not converged
                     or self.horizon >= self.options.max_horizon):
+                if not converged and GOAL not in leaves and HORIZON in leaves:
+                    self._notes.append(f"horizon kept at {self.horizon}: the solve timed out")
                 graph.nodes.update(scratch.nodes)
                 return scratch.root
             self.horizon = min(2 * self.horizon, self.options.max_horizon)
+            self._notes.append(f"horizon grown to {self.horizon}: no goal within it")
 
     # ----------------------------------------------------------------- step
     def step(self) -> tuple[str, str]:
@@ -156,7 +177,8 @@ class Engine:
         for i, uid in enumerate(path):
             node = graph[uid]
             if node.is_leaf:
-                if node.leaf == HORIZON:
+                if node.leaf == HORIZON or (node.leaf == DEAD_END and not node.proven
+                                            and not node.given_up):
                     return self._extend(graph, node)
                 break
             if not node.refined:
@@ -164,24 +186,38 @@ class Engine:
         return "exhausted", "selected path has nothing to refine"
 
     def _node_cost(self, node: Node) -> float:
-        """ĉ: estimated refinement cost of one node (0 once refined)."""
+        """ĉ: estimated refinement cost of one node (0 once refined).
+
+        As in the paper's analysis, an action costs the size of its generators' joint
+        domain — the product of their budgets, which is what the backtracking search of
+        Concretization enumerates in the worst case (1 without generators). A horizon
+        leaf or an unproven dead end costs one horizon (a replan); a dead end that
+        replanning could not leave is never selected again (infinite cost)."""
         if node.is_leaf:
-            return float(self.horizon) if node.leaf == HORIZON else 0.0
+            if node.leaf == HORIZON or (node.leaf == DEAD_END and not node.proven):
+                return math.inf if node.given_up else float(self.horizon)
+            return 0.0
         if node.refined:
             return 0.0
         cost = self._action_costs.get(node.action)
-        if cost is None:  # 1 + the generator budgets (domain sizes) the action draws from
+        if cost is None:
             budgets = {g.name: int(dict(g.options).get("budget", DEFAULT_BUDGET))
                        for g in self.model.lifted.domain.generators}
             action = self.model.actions[node.action]
-            cost = self._action_costs[node.action] = 1.0 + sum(
-                budgets[u.generator] for u in action.generated)
+            cost = self._action_costs[node.action] = float(math.prod(
+                budgets[u.generator] for u in action.generated))
         return cost
 
     def _extend(self, graph: PolicyGraph, leaf: Node) -> tuple[str, str]:
-        """Dynamic horizon growth: replace a horizon leaf by a freshly planned subtree."""
+        """Dynamic horizon growth: replace a horizon leaf (or an unproven dead end, where
+        the solver gave up) by a freshly planned subtree."""
+        was_dead_end = leaf.leaf == DEAD_END
         sub = self._graft_growing(graph, leaf.state, leaf.depth, None)
         self._adopt(graph, leaf, graph[sub])
+        if was_dead_end and leaf.leaf == DEAD_END and not leaf.proven:
+            leaf.given_up = True  # replanning found no way out either: stays unrefined
+            self._track(self.current, graph)
+            return "give-up", f"node {leaf.uid}: no way to the goal found, not proven a dead end"
         self._track(self.current, graph)
         return "extend", f"node {leaf.uid} at depth {leaf.depth}"
 
@@ -193,11 +229,13 @@ class Engine:
         result = self.concretizer.concretize(
             action, node.concrete.snapshot, node.concrete.cache, values,
             node_uid=node.uid, attempt=node.attempts, quick=quick)
+        if not isinstance(result, Success) and self.concretizer.past_deadline():
+            return "stopped", f"{action.label}: time limit reached while sampling"
         if isinstance(result, Success):
             self._commit(graph, node, result.sigma, values)
             self._track(self.current, graph)
             return "refined", action.label
-        return self._on_failure(graph, node, result)
+        return self._on_failure(graph, path, result)
 
     def _commit(self, graph: PolicyGraph, node: Node, sigma, values) -> None:
         """Refine ``node`` with ``sigma``; execute each outcome to get child states."""
@@ -208,7 +246,7 @@ class Engine:
         for k, edge in enumerate(node.edges):
             snap = self.concretizer.execute(action, edge.successor, edge.outcome,
                                             node.concrete.snapshot, node.concrete.cache,
-                                            env, node.uid)
+                                            env, node.uid, node.state)
             key = merge(snap) if merge else None
             target = self._merge_target(graph, graph[edge.child].state, key)
             if target is None:
@@ -239,18 +277,58 @@ class Engine:
                 return other.uid
         return None
 
-    def _on_failure(self, graph: PolicyGraph, node: Node, failure: Failure) -> tuple[str, str]:
+    def _on_failure(self, graph: PolicyGraph, path: tuple[int, ...],
+                    failure: Failure) -> tuple[str, str]:
+        node = graph[path[-1]]
         if failure.violated:
-            return self._update(graph, node, failure.violated, "update")
+            return self._update(graph, node, failure.violated, "update", path)
         node.attempts += 1
         if self.rng.random() < self.options.explore_probability:
             return self._update(graph, node, (), "explore")  # replans with a random action
         if node.attempts < self.options.max_attempts:
             return "retry", f"{self.model.actions[node.action].label}: no usable sample"
+        # nothing to learn and retries exhausted: revise an earlier choice (Alg. 1's
+        # backtracking over refined ancestors) before giving the action up here
+        ancestor = self._resample_target(graph, path)
+        if ancestor is not None:
+            return self._resample(graph, ancestor, node)
         self.planner.forbidden.add((node.state, node.action))
         return self._update(graph, node, (), "ban")
 
-    def _update(self, graph: PolicyGraph, node: Node, learned, kind: str) -> tuple[str, str]:
+    def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...]) -> Node | None:
+        """The refined ancestor (with generated values) re-sampled least often so far,
+        the nearest among equals: which earlier choice blocks the failing action is not
+        known, so the re-draws are spread over the ancestors instead of exhausting the
+        nearest one first."""
+        candidates = [graph[u] for u in reversed(path[:-1])
+                      if graph[u].refined and graph[u].sigma
+                      and graph[u].resamples < self.options.max_resamples]
+        return min(candidates, key=lambda n: n.resamples) if candidates else None
+
+    def _resample(self, graph: PolicyGraph, ancestor: Node, failed: Node) -> tuple[str, str]:
+        """Backtrack: draw fresh generator values for ``ancestor``. Every refinement below
+        it is invalidated (its subtree becomes an unrefined copy); a new PRG node records
+        the step."""
+        new_graph = graph.copy()
+        target = new_graph[ancestor.uid]
+        target.sigma = None
+        target.attempts += 1  # the next concretization draws from fresh generator streams
+        target.resamples += 1
+        detach_subtree(new_graph, target.uid, self.uids)
+        self.resamples += 1
+        v = self.prg.number_of_nodes()
+        self.prg.add_node(v, graph=new_graph, parent=self.current, failed=False)
+        self.prg.add_edge(self.current, v, node=ancestor.uid, kind="resample",
+                          failed_node=failed.uid, failed_preconditions=[],
+                          concretization=sorted(map(str, (ancestor.sigma or {}).keys())))
+        self.current = v
+        self._track(v, new_graph)
+        label = self.model.actions[ancestor.action].label
+        return "resample", (f"{label}: new generator values (no refinement of "
+                            f"{self.model.actions[failed.action].label} below it)")
+
+    def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
+                path: tuple[int, ...] = ()) -> tuple[str, str]:
         """UpdateAbstraction: write the true facts at ``node``, replan below it (new PRG node)."""
         new_graph = graph.copy()
         target = new_graph[node.uid]
@@ -261,7 +339,9 @@ class Engine:
         if kind == "explore" or self.rng.random() < self.options.explore_probability:
             forced = self.planner.random_action(state, self.rng, exclude=node.action)
             kind = "explore" if forced is not None else kind
-        sub = self._graft_growing(new_graph, state, target.depth, forced)
+        masks = (sum(1 << f for f, v in learned if v), sum(1 << f for f, v in learned if not v))
+        sub = self._graft_growing(new_graph, state, target.depth, forced,
+                                  masks if any(masks) else None)
         self._adopt(new_graph, target, new_graph[sub])
         target.learned = target.learned + tuple(learned)
         new_graph.prune()
@@ -274,6 +354,12 @@ class Engine:
         self.prg.add_edge(self.current, v, node=node.uid, failed_preconditions=facts,
                           concretization=sorted(map(str, (node.sigma or {}).keys())))
         if failed:
+            # UpdateAbstraction cannot help: revise an earlier choice on the path first
+            # (Alg. 1), then fall back to the PRG's iterative broadening
+            ancestor = self._resample_target(graph, path) if path else None
+            if ancestor is not None:
+                graph[node.uid].attempts += 1  # the failed node draws fresh samples too
+                return self._resample(graph, ancestor, node)
             return self._backtrack(node.uid)
         self.current = v
         self._track(v, new_graph)
@@ -299,6 +385,7 @@ class Engine:
         """Overwrite ``target``'s policy with ``source``'s (keeping uid and concrete state)."""
         target.state, target.action, target.leaf = source.state, source.action, source.leaf
         target.edges, target.sigma, target.attempts = list(source.edges), None, 0
+        target.proven, target.given_up = source.proven, False
         del graph.nodes[source.uid]
 
     # -------------------------------------------------------------- reporting
@@ -313,11 +400,15 @@ class Engine:
 
     def _event(self, kind: str, detail: str = "") -> ProgressEvent:
         graph = self.best_graph
+        if self._notes:
+            detail = f"{detail} [{'; '.join(self._notes)}]" if detail else "; ".join(self._notes)
+            self._notes = []
         event = ProgressEvent(
             time_s=self.elapsed(), coverage=max(self.best[0], 0.0),
             goal_probability=max(self.best[1], 0.0),
             refined_nodes=sum(1 for n in graph.nodes.values() if n.refined) if graph else 0,
             prg_nodes=self.prg.number_of_nodes(), abstract_solves=self.planner.solves,
-            kind=kind, detail=detail)
+            kind=kind, detail=detail,
+            dead_end_mass=max(0.0, self.best[0] - self.best[1]))
         self.events.append(event)
         return event

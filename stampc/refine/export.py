@@ -22,6 +22,7 @@ from typing import Any, Mapping
 from stampc.ir.grounded import GroundModel, bits
 from stampc.refine.graph import PolicyGraph
 from stampc.refine.options import RefineResult
+from stampc.refine.outcomes import outcome_labels
 from stampc.worlds.base import to_json
 
 POLICY_FORMAT = "stampc-policy"
@@ -53,6 +54,7 @@ def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
         entry: dict[str, Any] = {
             "id": uid, "depth": node.depth, "state": _facts(model, node.state),
             "leaf": node.leaf, "refined": node.refined,
+            **({"proven": node.proven} if node.leaf == "dead_end" else {}),
             "learned": [{"fact": str(model.facts[f]), "value": v} for f, v in node.learned],
         }
         if node.leaf == "goal":
@@ -65,8 +67,10 @@ def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
             entry["args"] = {p.name: a for p, a in zip(schema.params, action.args)}
             if node.sigma is not None:
                 entry["sigma"] = {k: to_json(v) for k, v in sorted(node.sigma.items())}
+            names = outcome_labels(action, node.state)
             entry["outcomes"] = [{
                 "probability": e.probability, "child": e.child,
+                **({"name": "+".join(names[e.outcome])} if names[e.outcome] else {}),
                 "adds": _literals(model, e.successor.add),
                 "deletes": _literals(model, e.successor.delete & ~e.successor.add),
             } for e in node.edges]
@@ -211,6 +215,9 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any],
             "wall_time_s": result.wall_time_s, "time_to_coverage": result.time_to_coverage,
             "prg_nodes": result.prg_nodes, "refined_paths": result.refined_paths,
             "refined_nodes": result.refined_nodes, "abstract_solves": result.abstract_solves,
+            "goal_mass": result.goal_mass, "dead_end_mass": result.dead_end_mass,
+            "unrefined_mass": result.unrefined_mass, "solver_timeouts": result.solver_timeouts,
+            "resamples": result.resamples,
             "seed": result.seed, "stop_reason": result.stop_reason}
 
 

@@ -20,7 +20,6 @@ from typing import Any, Callable, Iterator, Mapping
 from stampc.ir.grounded import Successor
 
 GOAL, DEAD_END, HORIZON = "goal", "dead_end", "horizon"
-TERMINAL = (GOAL, DEAD_END)
 
 
 @dataclass(frozen=True)
@@ -53,6 +52,14 @@ class Node:
     concrete: Concrete | None = None
     learned: tuple[tuple[int, bool], ...] = ()
     attempts: int = 0
+    #: dead-end leaves only: the goal is provably unreachable from here (deadends.py);
+    #: an unproven one is a give-up and does not count as covered
+    proven: bool = False
+    #: dead-end leaves only: replanning from here found no way out either; not selected
+    #: again (its mass stays unrefined)
+    given_up: bool = False
+    #: times this node's generator values were re-drawn by backtracking from below
+    resamples: int = 0
 
     @property
     def refined(self) -> bool:
@@ -61,6 +68,11 @@ class Node:
     @property
     def is_leaf(self) -> bool:
         return self.action is None
+
+    @property
+    def terminal(self) -> bool:
+        """A leaf whose mass counts as covered: the goal or a proven dead end."""
+        return self.leaf == GOAL or (self.leaf == DEAD_END and self.proven)
 
 
 @dataclass
@@ -133,8 +145,14 @@ def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float],
 
 
 def coverage(graph: PolicyGraph) -> float:
-    """Probability mass of executions that stay on refined branches to a terminal leaf."""
-    return _mass(graph, lambda n: 1.0 if n.leaf in TERMINAL else 0.0)
+    """Probability mass of executions that stay on refined branches to a terminal leaf
+    (the goal or a proven dead end): goal mass + proven dead-end mass."""
+    return _mass(graph, lambda n: 1.0 if n.terminal else 0.0)
+
+
+def dead_end_mass(graph: PolicyGraph) -> float:
+    """Probability of reaching a *proven* dead end on refined branches."""
+    return _mass(graph, lambda n: 1.0 if n.leaf == DEAD_END and n.proven else 0.0)
 
 
 def goal_probability(graph: PolicyGraph) -> float:
@@ -150,7 +168,7 @@ def abstract_goal_probability(graph: PolicyGraph) -> float:
 # ------------------------------------------------------------ path selection
 def path_is_covered(graph: PolicyGraph, path: tuple[int, ...]) -> bool:
     leaf = graph.nodes[path[-1]]
-    return leaf.leaf in TERMINAL and all(graph.nodes[u].refined for u in path[:-1])
+    return leaf.terminal and all(graph.nodes[u].refined for u in path[:-1])
 
 
 def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
@@ -218,3 +236,35 @@ def path_values(graph: PolicyGraph, path: tuple[int, ...],
         if sigma:
             values.update(sigma)
     return values
+
+
+def detach_subtree(graph: PolicyGraph, uid: int, uids: Iterator[int]) -> None:
+    """Give node ``uid`` an unrefined private copy of the policy below it.
+
+    Backtracking over a refined ancestor invalidates every refinement below it (its
+    children's concrete states came from its old values). Nodes below it may also be
+    shared with other branches (merged concrete states), so they are copied, not reset:
+    the other branches keep their refinements. The copies keep abstract states, actions
+    and learned facts; sigma, concrete states and attempt counts start afresh."""
+    node = graph.nodes[uid]
+    clones: dict[int, int] = {}
+    order: list[int] = []
+    stack = [e.child for e in node.edges]
+    while stack:
+        u = stack.pop()
+        if u in clones:
+            continue
+        clones[u] = next(uids)
+        order.append(u)
+        stack.extend(e.child for e in graph.nodes[u].edges)
+    for u in order:
+        old = graph.nodes[u]
+        graph.nodes[clones[u]] = Node(clones[u], old.state, old.depth, action=old.action,
+                                      leaf=old.leaf, learned=old.learned, proven=old.proven,
+                                      edges=[_retarget(e, clones) for e in old.edges])
+    node.edges = [_retarget(e, clones) for e in node.edges]
+    graph.prune()
+
+
+def _retarget(edge: Edge, clones: Mapping[int, int]) -> Edge:
+    return Edge(edge.probability, edge.outcome, edge.successor, clones.get(edge.child, edge.child))

@@ -33,6 +33,12 @@ class RefineOptions:
     #: cap on one abstract (re)solve, in seconds; a solve that hits it returns its best
     #: partial policy (a replan without a way to the goal then backtracks)
     solve_time_limit: float = 10.0
+    #: a capped solve is continued this many times, doubling its cap, before its
+    #: partial policy is used (a timeout is not a verdict on the horizon)
+    solve_retries: int = 2
+    #: backtracking over refined ancestors (Alg. 1): how often one node's generator
+    #: values may be re-drawn because an action below it found no usable sample
+    max_resamples: int = 3
     #: The abstract solver used for every (re)plan: LAO* with h_add — inadmissible, but
     #: its strong guidance keeps the hundreds of re-solves of a run fast (a 25-can state
     #: with two learned obstructions: 13 expansions, where h_max needs ~2,400); the policy
@@ -76,8 +82,12 @@ class ProgressEvent:
     refined_nodes: int
     prg_nodes: int
     abstract_solves: int
-    kind: str  # "start" | "refined" | "update" | "explore" | "extend" | "backtrack" | "done"
+    #: "start" | "refined" | "retry" | "update" | "explore" | "ban" | "extend" |
+    #: "give-up" | "resample" | "backtrack" | "done"
+    kind: str
     detail: str = ""
+    #: refined mass ending in proven dead ends (coverage = goal_probability + this)
+    dead_end_mass: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -95,3 +105,12 @@ class RefineResult:
     stop_reason: str
     events: tuple[ProgressEvent, ...]
     diagnostics: tuple[Diagnostic, ...] = ()
+    #: the probability mass split: goal_mass (refined paths to the goal, = goal
+    #: probability) + dead_end_mass (refined paths to *proven* dead ends) = coverage;
+    #: unrefined_mass = 1 - coverage (unrefined, horizon or given-up leaves)
+    goal_mass: float = 0.0
+    dead_end_mass: float = 0.0
+    unrefined_mass: float = 1.0
+    #: abstract solves that hit their time cap; generator values re-drawn by backtracking
+    solver_timeouts: int = 0
+    resamples: int = 0

@@ -15,6 +15,7 @@ from typing import Iterator
 
 from stampc.ir.grounded import GroundModel
 from stampc.refine.graph import DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph
+from stampc.refine.deadends import DeadEndProver
 from stampc.solvers import Solution, SolverOptions, policy_tree, solve
 
 
@@ -33,44 +34,84 @@ class AbstractPlanner:
         #: cap on a single solve, in seconds
         self.solve_time_limit: float | None = None
         self.uids = uids
+        self.prover = DeadEndProver(model)
         self.solves = 0
         self.solve_time_s = 0.0
         self._last: dict[str, Solution] = {}
         self.forbidden: set[tuple[int, int]] = set()
+        #: a capped solve is continued this many times (doubling the cap) before its
+        #: partial policy is used
+        self.max_retries = 2
+        self.timeouts = 0
+        #: what the last ``solve_from`` did beyond one plain solve (for progress events)
+        self.notes: list[str] = []
+        self.last_converged = True
+        #: when a list: (state, learned, warm, solution) of every solve (bench/refine.py)
+        self.log: list | None = None
 
-    def solve_from(self, state: int) -> Solution:
-        solution = None
-        for options in self.chain:
-            solution = self._solve_with(options, state)
-            if solution.goal_probability > 0.0:
+    def solve_from(self, state: int, learned: tuple[int, int] | None = None) -> Solution:
+        """Solve from ``state``; ``learned`` = (facts learned true, learned false) since
+        the previous solve, whose values then seed the new one (incremental re-solve).
+
+        A solve that hits its cap is *not* taken as a verdict: it is continued (its tables
+        are a consistent warm start) with twice the time, up to ``max_retries`` times
+        within the run's deadline. Only a converged solve without a way to the goal
+        falls back to the next solver settings (h_FF). ``notes`` says what happened."""
+        self.notes = []
+        primary = self.chain[0]
+        cap = self.solve_time_limit
+        solution = self._solve_with(primary, state, learned, cap)
+        for _ in range(self.max_retries):
+            if solution.converged or self._remaining() <= 0.05:
                 break
+            cap = 2 * cap if cap else None
+            self.timeouts += 1
+            self.notes.append(f"solver timeout: retry with more time ({cap:g} s)" if cap
+                              else "solver timeout: retry")
+            solution = self._solve_with(primary, state, learned, cap)
+        for fallback in self.chain[1:]:
+            if solution.goal_probability > 0.0 or self._remaining() <= 0.05:
+                break
+            why = "no way to the goal" if solution.converged else "solver timeout"
+            self.notes.append(f"{why} with {primary.heuristic}: {fallback.heuristic} fallback")
+            solution = self._solve_with(fallback, state, learned, cap)
+        if not solution.converged:
+            self.timeouts += 1
+            self.notes.append("solver timeout: best partial policy kept")
+        self.last_converged = solution.converged
         return solution
 
-    def _solve_with(self, options: SolverOptions, state: int) -> Solution:
+    def _remaining(self) -> float:
+        return float("inf") if self.deadline is None else self.deadline - time.perf_counter()
+
+    def _solve_with(self, options: SolverOptions, state: int,
+                    learned: tuple[int, int] | None, cap: float | None) -> Solution:
         opts = replace(options, forbidden=frozenset(self.forbidden)) if self.forbidden else options
-        budget = [b for b in (self.solve_time_limit, self.deadline and
-                              max(0.05, self.deadline - time.perf_counter())) if b]
+        budget = [b for b in (cap, self.deadline and max(0.05, self._remaining())) if b]
         if budget:
             opts = replace(opts, time_limit=min(budget))
         key = f"{options.heuristic}:{options.weight}"
-        warm = self._last.get(key) if not self.forbidden else None
-        solution = solve(self.solve_model, opts, init=state, warm=warm)
+        warm = self._last.get(key)  # valid with more bans too (values stay lower bounds)
+        solution = solve(self.solve_model, opts, init=state, warm=warm,
+                         learned=learned if warm is not None else None)
         self.solves += 1
         self.solve_time_s += solution.solve_time_s
-        if not self.forbidden:
-            self._last[key] = solution
+        self._last[key] = solution
+        if self.log is not None:
+            self.log.append((state, learned, warm, solution))
         return solution
 
     def graft(self, graph: PolicyGraph, state: int, depth: int, horizon: int,
-              forced_action: int | None = None) -> int:
+              forced_action: int | None = None, learned: tuple[int, int] | None = None) -> int:
         """Solve from ``state`` and add the policy unrolled to ``horizon`` to ``graph``;
         returns the uid of the new subtree's root. ``forced_action`` (explore step) makes
         the root take that action and plans from each of its outcomes."""
         if forced_action is not None:
             return self._graft_forced(graph, state, depth, horizon, forced_action)
-        solution = self.solve_from(state)
+        solution = self.solve_from(state, learned)
         remaining = max(0, horizon - depth)
-        tree = policy_tree(self.solve_model, solution, init=state, depth=remaining)
+        tree = policy_tree(self.solve_model, solution, init=state, depth=remaining,
+                           planned_only=not solution.converged)
         return self._add_tree(graph, tree, depth)
 
     def _graft_forced(self, graph: PolicyGraph, state: int, depth: int, horizon: int,
@@ -90,7 +131,8 @@ class AbstractPlanner:
         return node.uid
 
     def _leaf(self, graph: PolicyGraph, state: int, depth: int, kind: str) -> int:
-        node = Node(next(self.uids), state, depth, leaf=kind)
+        node = Node(next(self.uids), state, depth, leaf=kind,
+                    proven=kind == DEAD_END and self.prover.proven(state))
         graph.nodes[node.uid] = node
         return node.uid
 
@@ -108,7 +150,9 @@ class AbstractPlanner:
             order.append(t)
             stack.extend(e.child for e in t.children)
         for t in order:
-            node = Node(made[id(t)], t.state, depth + t.depth, action=t.action, leaf=_leaf_kind(t))
+            kind = _leaf_kind(t)
+            node = Node(made[id(t)], t.state, depth + t.depth, action=t.action, leaf=kind,
+                        proven=kind == DEAD_END and self.prover.proven(t.state))
             if t.action is not None:
                 outcomes = self.model.actions[t.action].outcomes(t.state)
                 node.edges = [Edge(e.probability, e.outcome, outcomes[e.outcome], made[id(e.child)])

@@ -12,7 +12,8 @@ import random
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
-from stampc.worlds.base import ConcreteAction, Context
+from stampc.refine.concretize import outcome_of
+from stampc.worlds.base import ConcreteAction, Context, call_executor
 
 SUCCESS, FAILURE, UNREFINED, DEAD_END = "success", "failure", "unrefined", "dead_end"
 
@@ -68,10 +69,11 @@ def concrete_action(node: Mapping, outcome_index: int, env: Mapping[str, Any]) -
     def literals(items):
         return tuple((lit["predicate"], tuple(value(a) for a in lit["args"])) for lit in items)
 
+    name = outcome.get("name")
     return ConcreteAction(name=node["action_name"],
                           args={p: value(a) for p, a in node["args"].items()},
                           adds=literals(outcome["adds"]), deletes=literals(outcome["deletes"]),
-                          outcome=outcome_index)
+                          outcome=outcome_index, labels=tuple(name.split("+")) if name else ())
 
 
 def replay(policy: Mapping, world: Any, executors: Mapping[str, Callable], *, runs: int,
@@ -109,10 +111,11 @@ def _one_run(nodes, sigmas, env, root, world, executors, rng, run, max_steps,
         weights = [o["probability"] for o in node["outcomes"]]
         k = rng.choices(range(len(weights)), weights=weights)[0]
         fn = executors.get(node["action_name"])
-        if fn is not None:
+        action = concrete_action(node, k, env)
+        if fn is not None and (action.adds or action.deletes):  # no-op outcomes change nothing
             ctx = Context(world=world, rng=random.Random(rng.random()), options={}, cache={})
             try:
-                fn(ctx, concrete_action(node, k, env))
+                call_executor(fn, ctx, action, outcome_of(action, weights[k]))
             except Exception as exc:  # a concrete step failing is a failed run, not a crash
                 return RunRecord(FAILURE, step, tuple(done), f"{node['action']}: {exc}")
         done.append(node["action"])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 
@@ -63,13 +64,37 @@ def _compatible(warm: Solution, model: GroundModel, options: SolverOptions,
             and w.forbidden <= options.forbidden)
 
 
+def _transfer(warm: Solution, learned: tuple[int, int]):
+    """Initial estimates for nodes that differ from ``warm``'s only by learned facts.
+
+    ``learned`` = (facts learned true, facts learned false). A node of the new search
+    maps to the node with those facts reverted; if ``warm`` had *expanded* that node, its
+    backed-up value is a far better estimate than the heuristic — exact wherever the
+    learned facts do not matter (other cans, other branches), a lower bound where they
+    only remove options (a learned obstruction). Only expanded nodes are used: their
+    values are backed up, an unexpanded one is just its heuristic."""
+    true_mask, false_mask = learned
+    values, expanded = warm.search.V, warm.search.expanded
+
+    def lookup(node: int) -> float | None:
+        old = (node & ~true_mask) | false_mask
+        if old != node and old in expanded:
+            return values.get(old)
+        return None
+
+    return lookup
+
+
 def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None,
-                 warm: Solution | None) -> Search:
+                 warm: Solution | None, learned: tuple[int, int] | None = None) -> Search:
     if warm is not None and _compatible(warm, model, options, horizon):
         old = warm.search
+        transfer = _transfer(warm, learned) if learned and any(learned) else None
         if warm.options.forbidden == options.forbidden:
             # Same transitions: continue from a copy of the whole table set.
-            search = Search(old.space, options.time_limit)
+            space = copy.copy(old.space)
+            space.transfer, space.transferred = transfer, 0
+            search = Search(space, options.time_limit)
             search.V = dict(old.V)
             search.best = dict(old.best)
             search.terminal = set(old.terminal)
@@ -81,7 +106,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
     else:
         cache = SuccessorCache(model, options.unit_cost)
         h = make_heuristic(options.heuristic, model, options.unit_cost, options.weight)
-        warm_values = None
+        warm_values = transfer = None
     guide = steps = None
     if horizon is not None:
         steps = h if options.unit_cost and options.heuristic == "hmax" else \
@@ -90,6 +115,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
             guide = Search(Space(cache, h, options.dead_end_cost, None, options.forbidden))
     space = Space(cache, h, options.dead_end_cost, horizon, options.forbidden,
                   warm=warm_values, guide=guide.V if guide else None, steps=steps)
+    space.transfer = transfer
     search = Search(space, options.time_limit)
     search.guide = guide
     return search
@@ -105,22 +131,30 @@ def _run_guide(search: Search, state: int, epsilon: float) -> None:
 
 
 def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
-          init: int | None = None, warm: Solution | None = None) -> Solution:
+          init: int | None = None, warm: Solution | None = None,
+          learned: tuple[int, int] | None = None) -> Solution:
     """Solve the SSP of ``model`` from ``init`` (default ``model.init``).
 
     ``warm`` reuses the value tables of a previous solution on the same model where they
     are still valid lower bounds (see :func:`_compatible`), which makes re-solving from a
-    state with newly learned facts cheap.
+    state with newly learned facts cheap. ``learned`` = (facts learned true, facts
+    learned false) since ``warm`` was computed: nodes that differ from ``warm``'s
+    expanded nodes only by them start from those nodes' values (see :func:`_transfer`).
     """
     check_options(options)
     start = time.perf_counter()
     horizon = options.horizon if options.horizon is not None else model.horizon
-    search = _make_search(model, options, horizon, warm)
+    search = _make_search(model, options, horizon, warm, learned)
     state = model.init if init is None else init
     x0 = search.space.node(state, 0)
     guide_before = len(search.guide.expanded) if search.guide else 0
     expanded_before = len(search.expanded) + guide_before
     converged = True
+    # the root always gets its heuristic value: a carried-over estimate would hide a
+    # root the relaxation recognises as a dead end at once
+    carried, search.space.transfer = search.space.transfer, None
+    search.seed(x0)
+    search.space.transfer = carried
     try:
         search.seed(x0)
         if x0 not in search.terminal:

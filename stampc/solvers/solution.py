@@ -77,6 +77,11 @@ class Solution:
             return None
         return search.expanded[x][bi][0]
 
+    def planned(self, state: int, t: int = 0) -> bool:
+        """Did the search expand and back up ``(state, t)`` (or find it terminal)?"""
+        x = self._node(state, t)
+        return x in self.search.best or x in self.search.terminal
+
     def value(self, state: int, t: int = 0) -> float:
         """Current value estimate (exact within ε on the solved policy graph)."""
         search = self.search

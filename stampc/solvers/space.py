@@ -14,7 +14,7 @@ non-goal node at t = H costs D (failing to reach the goal in time is a give-up).
 from __future__ import annotations
 
 import math
-from typing import Mapping
+from typing import Callable, Mapping
 
 from stampc.solvers.heuristics import Heuristic
 from stampc.solvers.successors import SuccessorCache, Transition
@@ -44,6 +44,11 @@ class Space:
         #: Finite horizon only: a lower bound on the number of steps to the goal (h_max
         #: with unit costs); more than the steps left means the node costs exactly D.
         self.steps = steps
+        #: node -> estimate carried over from a previous solve (``api._transfer``), or
+        #: None; used instead of the heuristic when it answers
+        self.transfer: Callable[[int], float | None] | None = None
+        #: nodes whose initial value came from ``transfer`` (statistics)
+        self.transferred = 0
 
     # ----------------------------------------------------------- encoding
     def node(self, state: int, t: int = 0) -> int:
@@ -73,6 +78,11 @@ class Space:
             left = self.horizon - (node >> self.shift)
             if left <= 0 or (self.steps is not None and self.steps(state) > left):
                 return d, True
+        if self.transfer is not None:
+            carried = self.transfer(node)
+            if carried is not None:
+                self.transferred += 1
+                return (carried if carried < d else d), False
         h = self.h(state)
         if h == math.inf:
             return d, True

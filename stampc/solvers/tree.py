@@ -34,11 +34,13 @@ class TreeNode:
 
 
 def _leaf_kind(model: GroundModel, solution: Solution, state: int, depth: int,
-               max_depth: int) -> tuple[str | None, int | None]:
+               max_depth: int, planned_only: bool) -> tuple[str | None, int | None]:
     if model.is_goal(state):
         return "goal", None
     if depth >= max_depth or (solution.horizon is not None and depth >= solution.horizon):
         return "horizon", None
+    if planned_only and not solution.planned(state, depth):
+        return "horizon", None  # the solve never got here: plan it when it matters
     action = solution.action(state, depth)
     if action is None:
         return "dead_end", None
@@ -46,8 +48,13 @@ def _leaf_kind(model: GroundModel, solution: Solution, state: int, depth: int,
 
 
 def policy_tree(model: GroundModel, solution: Solution, *, init: int | None = None,
-                depth: int) -> TreeNode:
-    """Unroll ``solution``'s policy from ``init`` (default ``solution.init``) to ``depth``."""
+                depth: int, planned_only: bool = False) -> TreeNode:
+    """Unroll ``solution``'s policy from ``init`` (default ``solution.init``) to ``depth``.
+
+    By default a state the solve never expanded gets a one-step lookahead action. With
+    ``planned_only`` (a solve cut off by its time limit) such a state becomes a
+    ``horizon`` leaf instead: expanding every tip of a large partial policy one by one
+    can cost more than the solve itself."""
     root_state = solution.init if init is None else init
     memo: dict[tuple[int, int], TreeNode] = {}
     # Iterative post-order construction (no recursion limit on deep trees).
@@ -64,7 +71,7 @@ def policy_tree(model: GroundModel, solution: Solution, *, init: int | None = No
                           for i, o in enumerate(outcomes))
             memo[key] = TreeNode(state, d, action, None, edges)
             continue
-        leaf, action = _leaf_kind(model, solution, state, d, depth)
+        leaf, action = _leaf_kind(model, solution, state, d, depth, planned_only)
         if leaf is not None:
             memo[key] = TreeNode(state, d, None, leaf)
             continue

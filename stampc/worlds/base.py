@@ -14,6 +14,7 @@ strings (a leading ``.`` is relative to the world's own package). Their signatur
     generator(ctx: Context, *inputs) -> Iterable[tuple]     # one tuple of outputs per sample
     evaluator(ctx: Context, *args) -> bool
     executor(ctx: Context, action: ConcreteAction) -> None  # mutates the current state
+    executor(ctx: Context, action: ConcreteAction, outcome: Outcome) -> None  # outcome-aware
 
 ``inputs``/``args`` are, position by position, object names (``str``) for discrete
 types and concrete values for continuous ones. Concrete values must be JSON-friendly via
@@ -22,8 +23,10 @@ types and concrete values for continuous ones. Concrete values must be JSON-frie
 
 from __future__ import annotations
 
+import inspect
 import json
 import random
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping, Protocol, runtime_checkable
@@ -47,6 +50,44 @@ class ConcreteAction:
     labels: tuple[str, ...] = ()
 
 
+@dataclass(frozen=True)
+class Outcome:
+    """The sampled outcome of an action, as an outcome-aware executor receives it.
+
+    ``name``: the outcome's ``as NAME`` label(s) joined by ``+`` (several independent
+    blocks may fire together), ``None`` if unnamed; ``adds``/``deletes``: its literal
+    effects with concrete arguments (as in :class:`ConcreteAction`)."""
+
+    name: str | None
+    index: int
+    probability: float
+    adds: tuple[tuple[str, tuple[Any, ...]], ...] = ()
+    deletes: tuple[tuple[str, tuple[Any, ...]], ...] = ()
+
+    @property
+    def changes_nothing(self) -> bool:
+        """No literal effect at all (e.g. a slip that leaves the robot where it was)."""
+        return not self.adds and not self.deletes
+
+
+def accepts_outcome(fn: Callable) -> bool:
+    """Does executor ``fn`` declare an ``outcome`` parameter (or ``**kwargs``)?"""
+    try:
+        params = inspect.signature(fn).parameters.values()
+    except (TypeError, ValueError):
+        return False
+    return any(p.name == "outcome" or p.kind is p.VAR_KEYWORD for p in params)
+
+
+def call_executor(fn: Callable, ctx: "Context", action: ConcreteAction, outcome: Outcome) -> None:
+    """Call an executor: outcome-aware ones (``def ex(ctx, action, outcome)``) get the
+    sampled outcome; the two-argument form of earlier worlds is called as before."""
+    if accepts_outcome(fn):
+        fn(ctx, action, outcome=outcome)
+    else:
+        fn(ctx, action)
+
+
 @dataclass
 class Context:
     """What a bound function sees: the world, a seeded RNG, options and a scratch cache.
@@ -61,6 +102,16 @@ class Context:
     cache: dict = field(default_factory=dict)
     #: symbol name -> concrete value for every symbol bound so far on this path
     values: Mapping[str, Any] = field(default_factory=dict)
+    #: absolute ``time.perf_counter()`` deadline of the run (``--time-limit``), if any:
+    #: long computations (motion planning, IK restarts) should not run past it
+    deadline: float | None = None
+
+    def time_left(self, cap: float) -> float:
+        """``cap`` seconds, or less if the run's deadline is nearer (never below 10 ms,
+        so a call made at the deadline still returns promptly with what it has)."""
+        if self.deadline is None:
+            return cap
+        return max(0.01, min(cap, self.deadline - time.perf_counter()))
 
 
 @runtime_checkable

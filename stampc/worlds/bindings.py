@@ -89,11 +89,16 @@ def resolve(binding: Binding, world_package: str, n_args: int, what: str,
 
 def _accepts(fn: Callable, n: int) -> bool:
     try:
-        inspect.signature(fn).bind(*range(n))
-    except TypeError:
-        return False
+        signature = inspect.signature(fn)
     except ValueError:  # builtins without signatures: trust them
         return True
+    try:
+        signature.bind(*range(n))
+    except TypeError:
+        try:  # an outcome-aware executor: f(ctx, action, outcome)
+            signature.bind(*range(n), outcome=None)
+        except TypeError:
+            return False
     return True
 
 

@@ -8,7 +8,8 @@ import pytest
 
 from stampc.ir.grounded import Successor
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph, coverage,
-                                 goal_probability, iter_leaf_paths, select_path)
+                                 dead_end_mass, goal_probability, iter_leaf_paths,
+                                 path_is_covered, select_path)
 
 NOOP = Successor(Fraction(1), 0, 0, Fraction(1))
 
@@ -48,11 +49,25 @@ def test_coverage_counts_only_refined_terminal_paths():
     assert coverage(g) == pytest.approx(1.0)
 
 
-def test_horizon_leaves_are_not_covered_and_dead_ends_are():
+def test_horizon_leaves_are_not_covered_and_proven_dead_ends_are():
     g = build({0: ("act", True, [(0.2, 1), (0.5, 2), (0.3, 3)]),
                1: ("leaf", HORIZON), 2: ("leaf", GOAL), 3: ("leaf", DEAD_END)})
+    g[3].proven = True
     assert coverage(g) == pytest.approx(0.8)
     assert goal_probability(g) == pytest.approx(0.5)
+    assert dead_end_mass(g) == pytest.approx(0.3)
+
+
+def test_a_given_up_leaf_is_not_covered():
+    # the solver gave up at node 3 (e.g. a timed-out solve): not proven, not covered
+    g = build({0: ("act", True, [(0.2, 1), (0.5, 2), (0.3, 3)]),
+               1: ("leaf", GOAL), 2: ("leaf", GOAL), 3: ("leaf", DEAD_END)})
+    g[3].given_up = True
+    assert coverage(g) == pytest.approx(0.7)
+    assert dead_end_mass(g) == 0.0
+    assert not path_is_covered(g, (0, 3))
+    # and path selection never returns to it (its cost is infinite)
+    assert select_path(g, lambda n: float("inf") if n.given_up else 0.0) is None
 
 
 def test_retry_cycle_counts_with_geometric_probability():

@@ -5,7 +5,7 @@ boxes (and any object on the table) are no-fly zones. Its battery drains by the 
 of every path flown.
 
 - generator :func:`fly` (region → pose, path), evaluator :func:`has_battery`
-- executors :func:`fly_to`, :func:`charge`, :func:`inspect`
+- executors :func:`fly_to`, :func:`charge`, :func:`inspect`, :func:`drive` (outcome-aware)
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import math
 from typing import Any, Iterator
 
 from stampc.diagnostics import Span, StampcError, error
-from stampc.worlds.base import ConcreteAction, Context
+from stampc.worlds.base import ConcreteAction, Context, Outcome
 from stampc.worlds.plane2d.geometry import EPS
 from stampc.worlds.plane2d.planning import Checker, rrt_connect
 from stampc.worlds.plane2d.support import arg, int_option, world_of
@@ -93,6 +93,20 @@ def fly_to(ctx: Context, action: ConcreteAction) -> None:
     if added and planned not in added:
         end = world.region(added[0]).centre
     world.set_uav(end, world.battery - t.length, trace=t.points + (end,))
+
+
+def drive(ctx: Context, action: ConcreteAction, outcome: Outcome) -> None:
+    """Outcome-aware move of the mobile robot (the ``uav`` disc) along ``t``: it drives
+    (the battery drains by the path length) only if the sampled outcome moves it, i.e.
+    adds a fact about the planned region; any other outcome (a slip) leaves it in place.
+    """
+    world = world_of(ctx)
+    _require_uav(world)
+    t = arg(action, "t", as_traj)
+    planned = _planned_region(world, action, t)
+    if not any(planned in args for _, args in outcome.adds):
+        return  # slipped: the concrete state stays as it was
+    world.set_uav(t.end, world.battery - t.length, trace=t.points)
 
 
 def charge(ctx: Context, action: ConcreteAction) -> None:

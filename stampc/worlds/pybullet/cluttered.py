@@ -86,7 +86,7 @@ def _clear_first(ctx: Context, samples: Iterable[T], config_index: int, o: str) 
 def _unbudgeted(ctx: Context, **options: object) -> Context:
     kept = {k: v for k, v in ctx.options.items() if k != "budget"}
     return Context(world=ctx.world, rng=ctx.rng, options={**kept, **options},
-                   cache=ctx.cache, values=ctx.values)
+                   cache=ctx.cache, values=ctx.values, deadline=ctx.deadline)
 
 
 def grasp(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:

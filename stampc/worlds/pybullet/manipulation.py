@@ -92,6 +92,8 @@ def grasp(ctx: Context, o: str, p: Pose, r: str | None = None
     yielded, budget = 0, _budget(ctx)
     robot, base = _owner(world)
     for g in grasp_candidates(world.geometry[o], ctx.rng, kinds):
+        if ctx.time_left(1.0) <= 0.01:
+            return  # the run's deadline has passed: IK for more candidates is wasted
         world.select(robot)  # other calls may have selected another robot meanwhile
         config = _grasp_config(world, ctx, o, p, g)
         world.set_arm(world.state.q)
@@ -202,7 +204,10 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
     seen: set[Traj] = set()
     for static_only in (False, True):
         for attempt in range(budget):
-            settings = PlanSettings(base.planner, base.max_checks, base.time_limit,
+            if attempt and ctx.time_left(1.0) <= 0.01:
+                return  # past the run's deadline
+            settings = PlanSettings(base.planner, base.max_checks,
+                                    ctx.time_left(base.time_limit),  # the run's deadline
                                     static_only, straight=attempt == 0)
             world.select(q.robot)  # other calls may have selected another robot meanwhile
             traj = plan_trajectory(world, q, ctx.rng, settings, stats)

@@ -1,0 +1,83 @@
+"""Backtracking over refined ancestors (Alg. 1): a first placement that blocks the second."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import stampc
+from stampc.refine import Engine, RefineOptions
+from stampc.refine.replay import replay
+from stampc.worlds.bindings import resolve_model
+from stampc.worlds.loading import load_scene, open_world
+
+DATA = Path(__file__).parent / "data"
+PACK = [DATA / "pack.stamp", DATA / "pack2.stamp"]
+# seed 0: the first placement of can0 lands in the middle of the box, where can1 no
+# longer fits (checked below: without re-sampling the run gets nowhere)
+OPTIONS = dict(seed=0, explore_probability=0.0)
+
+
+def run(**options):
+    model = stampc.load_model(PACK)
+    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
+    engine = Engine(stampc.ground(model), world, resolve_model(model, world.package),
+                    RefineOptions(**{**OPTIONS, **options}))
+    try:
+        events = list(engine.run())
+    finally:
+        world.close()
+    return engine, events
+
+
+def test_without_resampling_the_blocked_packing_is_never_refined():
+    engine, _ = run(max_resamples=0, time_limit=3)
+    assert engine.result().coverage == 0.0 and engine.resamples == 0
+
+
+def test_resampling_an_ancestor_refines_the_blocked_packing():
+    engine, events = run(time_limit=60)
+    result = engine.result()
+    assert result.coverage == pytest.approx(1.0, abs=1e-9) and result.resamples >= 1
+    assert any(e.kind == "resample" for e in events)
+    # the PRG records each backtracking step on an edge of its own kind
+    kinds = [d.get("kind") for _, _, d in engine.prg.edges(data=True)]
+    assert kinds.count("resample") == result.resamples
+    # every refined node lies on the final policy; its replay stores both cans
+    model = stampc.load_model(PACK)
+    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
+    try:
+        policy = stampc.refine.RefinedPolicy(result, engine.best_graph, engine.model,
+                                             engine.initial_values).to_json()
+        report = replay(policy, world, resolve_model(model, world.package).executors,
+                        runs=5, seed=1)
+    finally:
+        world.close()
+    assert report.count("success") == 5
+
+
+def test_a_resample_invalidates_the_subtree_below_the_ancestor():
+    model = stampc.load_model(PACK)
+    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
+    engine = Engine(stampc.ground(model), world, resolve_model(model, world.package),
+                    RefineOptions(**OPTIONS, time_limit=60))
+    try:
+        for event in engine.run():
+            if event.kind == "resample":
+                break
+        # the new PRG node: the ancestor lost its values, and so did everything below it
+        # (the children's concrete states came from those values)
+        v = engine.current
+        parent = engine.prg.nodes[v]["parent"]
+        edge = engine.prg.edges[parent, v]
+        graph = engine.prg.nodes[v]["graph"]
+        anc = graph[edge["node"]]
+        assert edge["kind"] == "resample" and not anc.refined and anc.resamples == 1
+        below = graph.reachable(anc.uid)[1:]
+        assert below and all(not graph[u].refined and graph[u].concrete is None for u in below)
+        # the PRG node it came from still holds the refined values
+        before = engine.prg.nodes[parent]["graph"]
+        assert before[anc.uid].refined
+    finally:
+        world.close()

@@ -1,0 +1,130 @@
+"""Abstract (re)planning in the engine: timeouts vs horizon growth, incremental
+re-solves after learned facts, proven dead ends, the run's time limit."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import stampc
+from stampc.refine import Engine, RefineOptions
+from stampc.refine.deadends import DeadEndProver
+from stampc.refine.graph import HORIZON, PolicyGraph
+from stampc.solvers import SolverOptions, solve
+from stampc.worlds.bindings import resolve_model
+from stampc.worlds.loading import load_scene, open_world
+
+DATA = Path(__file__).parent / "data"
+ROOT = Path(__file__).resolve().parents[2]
+SHELF = [DATA / "shelf.stamp", DATA / "shelf5.stamp"]
+
+
+def engine_for(files, **options) -> Engine:
+    model = stampc.load_model(files)
+    world = open_world("plane2d", load_scene(model.problem, Path(files[-1]).parent), seed=0)
+    return Engine(stampc.ground(model), world, resolve_model(model, world.package),
+                  RefineOptions(**options))
+
+
+def test_a_converged_solve_without_goal_in_reach_grows_the_horizon():
+    engine = engine_for(SHELF, horizon=1)
+    _, blocked, _ = _learned_shelf_states()  # can1 first: the goal is 3+ steps away
+    graph = PolicyGraph(-1, {})
+    graph.root = engine._graft_growing(graph, blocked, 0, None)
+    assert engine.planner.last_converged and engine.horizon > 1
+    assert any("horizon grown" in n for n in engine._notes)
+
+
+def test_a_solver_timeout_leaves_the_horizon_unchanged():
+    engine = engine_for(SHELF, horizon=1, solve_retries=1)
+    engine.planner.solve_time_limit = 1e-9  # every solve is cut off at its first check
+    _, blocked, _ = _learned_shelf_states()
+    graph = PolicyGraph(-1, {})
+    graph.root = engine._graft_growing(graph, blocked, 0, None)
+    assert engine.horizon == 1
+    assert engine.planner.timeouts >= 1
+    notes = " | ".join(engine._notes)
+    assert "solver timeout: retry with more time" in notes and "horizon kept at 1" in notes
+
+
+def test_unplanned_tips_of_a_timed_out_solve_become_horizon_leaves():
+    engine = engine_for(SHELF, horizon=8, solve_retries=0)
+    engine.planner.solve_time_limit = 1e-9
+    _, blocked, _ = _learned_shelf_states()
+    graph = PolicyGraph(-1, {})
+    graph.root = engine._graft_growing(graph, blocked, 0, None)
+    assert not engine.planner.last_converged
+    # no one-step lookahead expansions past the tips: the unplanned part waits to be
+    # extended (or re-solved) when path selection gets there
+    assert any(n.leaf == HORIZON for n in graph.nodes.values())
+
+
+def _learned_shelf_states():
+    """The shelf problem, with can1 learned to block every trajectory that picks can0 and
+    then can2 learned to block them too."""
+    gm = stampc.ground(stampc.load_model(SHELF))
+    facts = [str(f) for f in gm.facts]
+    first = sum(1 << i for i, f in enumerate(facts) if f.startswith("collision(can1, t_pick_can0"))
+    second = sum(1 << i for i, f in enumerate(facts) if f.startswith("collision(can2, t_pick_can0"))
+    assert first and second
+    return gm, gm.init | first, second
+
+
+def test_incremental_resolve_reuses_the_previous_solution():
+    gm, state, learned = _learned_shelf_states()
+    options = SolverOptions(heuristic="hadd")
+    previous = solve(gm, options, init=state)
+    scratch = solve(gm, options, init=state | learned)
+    incremental = solve(gm, options, init=state | learned, warm=previous, learned=(learned, 0))
+    assert incremental.converged and incremental.goal_probability == pytest.approx(1.0)
+    assert scratch.goal_probability == pytest.approx(1.0)
+    # the values of states the learned facts do not touch are carried over (no heuristic
+    # evaluation for them), and nothing needs more expansions than from scratch
+    assert incremental.search.space.transferred > 0
+    assert scratch.search.space.transferred == 0
+    assert incremental.states_expanded <= scratch.states_expanded
+    # the previous solution's tables are copied, not modified
+    assert state | learned not in previous.search.expanded
+
+
+def test_dead_ends_are_proven_by_reachability_not_by_the_solver():
+    gm = stampc.ground(stampc.load_model(SHELF))
+    prover = DeadEndProver(gm)
+    assert not prover.proven(gm.init)
+    crushed_target = next(i for i, f in enumerate(gm.facts) if str(f) == "crushed(can0)")
+    # holding nothing, with the target crushed: it can still be picked (the goal only
+    # needs holding(can0)), so this is no dead end either
+    assert not prover.proven(gm.init | 1 << crushed_target)
+    # with every pick of can0 blocked by a can that nothing can move (learned facts on
+    # every trajectory of every can), the goal is unreachable: proven
+    blocked = sum(1 << i for i, f in enumerate(gm.facts)
+                  if str(f).startswith("collision(can1, ") and "t_pick_can0" in str(f))
+    everything = sum(1 << i for i, f in enumerate(gm.facts) if str(f).startswith("collision("))
+    assert not prover.proven(gm.init | blocked)        # can1 can be moved out of the way
+    assert prover.proven(gm.init | everything)          # nothing can move at all
+
+
+def test_time_limit_is_honoured_on_a_hard_instance(tmp_path):
+    """A 2 s limit on the 25-can PyBullet table: the run stops within max(1 s, 2 %) of
+    it and writes its partial result (exit 3 or 1 when short of coverage, never a kill)."""
+    sys.path.insert(0, str(ROOT))
+    from examples.cluttered_table.scene import write_problem
+    problem = write_problem(tmp_path / "c25.stamp", 25, 2, "mid")
+    out = tmp_path / "out"
+    start = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "stampc", "refine",
+                           str(ROOT / "examples" / "cluttered_table" / "domain.stamp"),
+                           str(problem), "--world", "pybullet", "--time-limit", "2", "--quiet",
+                           "-o", str(out)], capture_output=True, text=True, cwd=ROOT, timeout=300)
+    wall = time.perf_counter() - start
+    import json
+    summary = json.loads((out / "summary.json").read_text())
+    # the engine's own clock: limit + max(1 s, 2 %); the process adds start-up (imports,
+    # compiling, grounding, opening PyBullet) and writing the outputs
+    assert summary["wall_time_s"] <= 2.0 + 1.0, summary
+    assert wall < 180, wall  # no run-away (start-up alone takes seconds on a loaded machine)
+    assert proc.returncode != 0 or summary["coverage"] >= 1.0 - 1e-9
