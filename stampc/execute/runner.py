@@ -21,7 +21,8 @@ from typing import Any, Callable, Mapping
 
 from stampc.execute.truth import TrueOutcome, TruthModel, planned_key
 from stampc.refine.replay import DEAD_END, FAILURE, SUCCESS, UNREFINED, _decoded, concrete_action
-from stampc.worlds.base import Context
+from stampc.refine.concretize import outcome_of
+from stampc.worlds.base import Context, call_executor
 
 #: (world, leaf node) -> reasons the concrete goal does not hold (empty: it holds)
 GoalCheck = Callable[[Any, Mapping[str, Any]], list[str]]
@@ -133,10 +134,11 @@ class _RunLoop:
                 self.collisions.extend(f"{node['action']}: {h}" for h in hits)
             if self.hooks.before_action is not None:
                 self.hooks.before_action(self.world, action)
-            if fn is not None:
+            if fn is not None and (action.adds or action.deletes):  # no-op outcomes: as is
                 ctx = Context(world=self.world, rng=random.Random(self.rng.random()),
                               options={}, cache={})
-                fn(ctx, action)
+                probability = float(node["outcomes"][k]["probability"])
+                call_executor(fn, ctx, action, outcome_of(action, probability))
             if self.hooks.after_action is not None:
                 self.hooks.after_action(self.world, action)
         except Exception as exc:  # a concrete step failing is a failed run, not a crash
