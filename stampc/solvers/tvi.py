@@ -12,7 +12,7 @@ heuristic, so with an admissible heuristic they stay lower bounds (``bounds.py``
 from __future__ import annotations
 
 from stampc.solvers.core import Search
-from stampc.solvers.vi import MAX_SWEEPS, reachable
+from stampc.solvers.vi import reachable, sweep_until_converged
 
 
 def components(search: Search, nodes: list[int]) -> list[list[int]]:
@@ -70,22 +70,11 @@ def _succ(expanded, x: int, inner: set[int]):
 
 def topological_vi(search: Search, init: int, epsilon: float) -> None:
     nodes = reachable(search, init)
-    backup = search.backup
     for comp in components(search, nodes):
         if len(comp) == 1 and comp[0] not in _self_successors(search, comp[0]):
-            backup(comp[0])
+            search.backup(comp[0])
             continue
-        for sweep in range(MAX_SWEEPS):
-            search.iterations += 1
-            residual = 0.0
-            for x in comp:
-                d = backup(x)
-                if d > residual:
-                    residual = d
-            if residual < epsilon:
-                break
-            if sweep % 16 == 15:
-                search.check_time()
+        sweep_until_converged(search, comp, epsilon)
         search.check_time()
 
 

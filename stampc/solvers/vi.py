@@ -47,6 +47,12 @@ def value_iteration(search: Search, init: int, epsilon: float) -> None:
             search.backup(x)
         return
     nodes.reverse()
+    sweep_until_converged(search, nodes, epsilon)
+
+
+def sweep_until_converged(search: Search, nodes: list[int], epsilon: float) -> None:
+    """Gauss-Seidel sweeps over ``nodes`` (in order) until the largest Bellman residual
+    of a sweep is below ``epsilon`` (or MAX_SWEEPS); checks the clock every 16 sweeps, from the first."""
     backup = search.backup
     for sweep in range(MAX_SWEEPS):
         search.iterations += 1

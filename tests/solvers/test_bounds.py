@@ -109,14 +109,7 @@ def test_bounds_bracket_value_iteration_on_ippc_instances(ppddl_benchmarks, inst
     assert b.certified and b.gap <= 1e-4 * b.upper
 
 
-COIN = """
-(define (domain coin)
-  (:requirements :probabilistic-effects)
-  (:predicates (heads) (broken))
-  (:action flip :precondition (not (broken))
-    :effect (probabilistic 1/4 (heads) 1/4 (broken))))
-(define (problem toss) (:domain coin) (:init) (:goal (heads)))
-"""
+from test_cli_solve import COIN  # noqa: E402  (the same coin, one definition)
 
 
 def test_cli_json_reports_bounds_by_default(tmp_path, capsys):
