@@ -84,7 +84,7 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
            on_event: Callable | None = None, scene_overrides: Mapping[str, Any] | None = None,
            verbose: bool = False):
     """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``."""
-    from stampc.execute.provenance import builder_source, record
+    from stampc.provenance import builder_source, record
     from stampc.refine import RefineOptions, run_refinement
     from stampc.worlds.bindings import resolve_model
     from stampc.worlds.loading import load_scene, open_world, scene_origin

@@ -23,7 +23,7 @@ def execute_file(path: Path, *, runs: int, seed: int, max_steps: int = 500,
     from stampc import api
     from stampc.execute.goals import goal_check_for
     from stampc.execute.policyfile import load_policy
-    from stampc.execute.provenance import verify
+    from stampc.provenance import verify
     from stampc.execute.recheck import recheck_for
     from stampc.execute.runner import execute_policy
     from stampc.execute.truth import build_truth, parse_overrides, predicted_success

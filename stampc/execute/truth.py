@@ -191,22 +191,24 @@ def build_truth(model: L.Model, overrides: Mapping[str, Fraction], where: Span) 
     return TruthModel(ground(true_lifted_model(model, overrides, where)), overrides)
 
 
-def predicted_success(policy: Mapping[str, Any], truth: TruthModel) -> float:
+def predicted_success(policy: Mapping[str, Any], truth: TruthModel,
+                      tolerance: float = 1e-12, max_sweeps: int = 100_000) -> float:
     """Probability that a run of ``policy`` under ``truth`` ends at a goal leaf (every
-    goal leaf counted as reached; unplanned outcomes and unrefined nodes count 0)."""
+    goal leaf counted as reached; unplanned outcomes and unrefined nodes count 0).
+
+    Policy graphs may hold cycles (a retried action, a slip that changes nothing), so
+    this is a fixed point, not a tree sum: sweeps from below until nothing moves."""
     nodes = {n["id"]: n for n in policy["nodes"]}
-    memo: dict[int, float] = {}
-
-    def value(uid: int, depth: int) -> float:
-        if uid in memo:
-            return memo[uid]
-        node = nodes[uid]
-        if node["leaf"] is not None or not node["refined"] or depth > 10_000:
-            result = 1.0 if node["leaf"] == "goal" else 0.0
-        else:
-            result = sum(o.probability * value(node["outcomes"][o.planned]["child"], depth + 1)
-                         for o in truth.distribution(node) if o.planned is not None)
-        memo[uid] = result
-        return result
-
-    return value(policy["root"], 0)
+    value = {uid: 1.0 if n["leaf"] == "goal" else 0.0 for uid, n in nodes.items()}
+    inner = [(uid, [(o.probability, n["outcomes"][o.planned]["child"])
+                    for o in truth.distribution(n) if o.planned is not None])
+             for uid, n in nodes.items() if n["leaf"] is None and n["refined"]]
+    for _ in range(max_sweeps):
+        change = 0.0
+        for uid, branches in inner:
+            new = sum(p * value[child] for p, child in branches)
+            change = max(change, abs(new - value[uid]))
+            value[uid] = new
+        if change <= tolerance:
+            break
+    return value[policy["root"]]

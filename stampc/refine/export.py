@@ -224,7 +224,7 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any],
 def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result: RefineResult,
                   initial_values: Mapping[str, Any], meta: Mapping[str, Any]) -> list[str]:
     """Write every output; returns notes on what was shortened (also in summary.json)."""
-    from stampc.execute.provenance import anchored
+    from stampc.provenance import anchored
 
     out_dir.mkdir(parents=True, exist_ok=True)
     meta = anchored(meta, out_dir)  # input paths relative to policy.json (issue 13)

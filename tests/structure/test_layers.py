@@ -17,6 +17,8 @@ ROOT = Path(__file__).resolve().parents[2] / "stampc"
 BASE = {"diagnostics", "grammar_cache", "lazy", "inputs", "gcpause"}
 ALLOWED = {
     "diagnostics": set(), "grammar_cache": set(), "lazy": set(), "inputs": {"diagnostics"}, "gcpause": set(),
+    # content hashes of a run's inputs (stamp files, used modules, scene builder)
+    "provenance": BASE | {"syntax", "semantics", "worlds.modules"},
     "syntax": BASE,
     "semantics": BASE | {"syntax"},
     "ir": BASE | {"syntax", "semantics"},
@@ -28,7 +30,7 @@ ALLOWED = {
     "worlds.loading": BASE | {"ir", "worlds.base", "worlds.bindings", "worlds.modules"},
     "worlds.plane2d": BASE | {"worlds.base"},
     "worlds.pybullet": BASE | {"worlds.base"},
-    "refine": BASE | {"ir", "solvers", "worlds.base", "worlds.bindings"},
+    "refine": BASE | {"ir", "solvers", "worlds.base", "worlds.bindings", "provenance"},
 }
 
 
