@@ -70,7 +70,7 @@ def policy_json(model: GroundModel, graph: PolicyGraph, result: RefineResult,
             names = outcome_labels(action, node.state)
             entry["outcomes"] = [{
                 "probability": e.probability, "child": e.child,
-                **({"name": "+".join(names[e.outcome])} if names[e.outcome] else {}),
+                **_outcome_name(names, e.outcome),
                 "adds": _literals(model, e.successor.add),
                 "deletes": _literals(model, e.successor.delete & ~e.successor.add),
             } for e in node.edges]
@@ -219,6 +219,13 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any],
             "unrefined_mass": result.unrefined_mass, "solver_timeouts": result.solver_timeouts,
             "resamples": result.resamples,
             "seed": result.seed, "stop_reason": result.stop_reason}
+
+
+def _outcome_name(names: tuple[tuple[str, ...], ...], outcome: int) -> dict[str, str]:
+    """``{"name": ...}`` for an outcome with ``as NAME`` labels (none past the labelled ones,
+    e.g. an edge the engine added itself)."""
+    labels = names[outcome] if 0 <= outcome < len(names) else ()
+    return {"name": "+".join(labels)} if labels else {}
 
 
 def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result: RefineResult,

@@ -69,7 +69,7 @@ def test_refine_plane2d_then_execute(cli, checkout):
     policy = json.loads((checkout / "out" / "policy.json").read_text(encoding="utf-8"))
     # paths relative to policy.json (issue 13), the absolute ones kept as a fallback:
     # execute works from anywhere
-    assert policy["files"][0] == "../examples/cluttered_table/domain.stamp"
+    assert policy["files"][0] == "../examples/cluttered_table/domain_fixed.stamp"
     assert all(Path(e["absolute"]).is_absolute() for e in policy["provenance"]["inputs"])
     execute = cli.run("execute", str(checkout / "out" / "policy.json"), "--runs", "3",
                       "--seed", "1", cwd=checkout.parent)
