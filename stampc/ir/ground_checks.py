@@ -49,11 +49,23 @@ def effect_conflicts(effect: GEffect) -> int:
             a, d = _reach(sub)
             adds, deletes = adds | a, deletes | d
         parts.append((adds, deletes))
-    for i, (adds, _) in enumerate(parts):
-        for j, (_, deletes) in enumerate(parts):
-            if i != j:
-                conflicts |= adds & deletes
-    return conflicts
+    return conflicts | _across_parts(parts)
+
+
+def _across_parts(parts: list[tuple[int, int]]) -> int:
+    """Facts one part adds and another part deletes, in linear time (an action may have
+    thousands of ``when`` parts): a fact added (or deleted) by two or more parts
+    conflicts with any deleter (adder); one added and deleted once conflicts unless the
+    same part does both."""
+    adds_any = deletes_any = adds_twice = deletes_twice = same_part = 0
+    for adds, deletes in parts:
+        adds_twice |= adds & adds_any
+        deletes_twice |= deletes & deletes_any
+        adds_any |= adds
+        deletes_any |= deletes
+        same_part |= adds & deletes
+    both = adds_any & deletes_any
+    return (adds_twice & deletes_any) | (deletes_twice & adds_any) | (both & ~same_part)
 
 
 def _reach(effect: GEffect) -> tuple[int, int]:

@@ -121,3 +121,20 @@ def test_drive_p06_delete_wins_reproduces_mdplib_value():
     add_wins = solve(ground(model), options)
     assert delete_wins.expected_cost == pytest.approx(153.259588, abs=1e-3)
     assert add_wins.expected_cost == pytest.approx(131.637, abs=1e-2)
+
+
+def test_conflicts_across_parts_match_the_pairwise_definition():
+    """The linear-time check equals "some part adds f and another part deletes f"."""
+    import random
+
+    from stampc.ir.ground_checks import _across_parts
+
+    rng = random.Random(5)
+    for _ in range(2000):
+        parts = [(rng.getrandbits(6), rng.getrandbits(6)) for _ in range(rng.randint(1, 5))]
+        pairwise = 0
+        for i, (adds, _) in enumerate(parts):
+            for j, (_, deletes) in enumerate(parts):
+                if i != j:
+                    pairwise |= adds & deletes
+        assert _across_parts(parts) == pairwise, parts
