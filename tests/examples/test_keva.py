@@ -214,12 +214,10 @@ def _checked(fn, failures: list[str]):
 
 def _refine_and_replay(tmp_path, structure: str, levels: int, seed: int, limit: float):
     problem = kv.write_problem(tmp_path / "p.stamp", structure, levels, seed)
-    # No ancestor re-sampling: on Keva an unreachable put-down is an arm choice to ban and
-    # replan (hand-over through the buffer), and re-sampling ancestors instead thrashes
-    # (3π seed 0: coverage 0.29 after 198 re-samples in 240 s, vs 1.0 in 20 s without) —
-    # an open engine matter (issue 12).
+    # Default options: an arm that cannot reach a feed is banned and replanned (the other
+    # arm, or a hand-over through the buffer) before any ancestor is re-sampled.
     run = refine_policy([DOMAIN, problem], world="pybullet",
-                        options=RefineOptions(seed=0, time_limit=limit, max_resamples=0))
+                        options=RefineOptions(seed=0, time_limit=limit))
     assert run.result.coverage == pytest.approx(1.0)
     assert run.result.goal_probability == pytest.approx(1.0)
     policy = run.to_json()

@@ -44,6 +44,9 @@ def test_resampling_an_ancestor_refines_the_blocked_packing():
     # the PRG records each backtracking step on an edge of its own kind
     kinds = [d.get("kind") for _, _, d in engine.prg.edges(data=True)]
     assert kinds.count("resample") == result.resamples
+    # the second store was banned (no usable sample) before each re-sample; a ban comes
+    # from the old generator values, so the re-sample that invalidated it lifted it
+    assert not engine.planner.forbidden
     # every refined node lies on the final policy; its replay stores both cans
     model = stampc.load_model(PACK)
     world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
@@ -81,3 +84,20 @@ def test_a_resample_invalidates_the_subtree_below_the_ancestor():
         assert before[anc.uid].refined
     finally:
         world.close()
+
+
+
+def test_an_action_that_can_never_work_is_banned_before_any_ancestor_is_resampled():
+    """The cheap shelf is too small for any can: re-sampling the pick above it cannot
+    help, so the engine bans store_cheap there and replans (the tray) without touching
+    the refined pick — re-sampling is kept for when the replan finds no other way."""
+    model = stampc.load_model([DATA / "store.stamp", DATA / "store1.stamp"])
+    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
+    engine = Engine(stampc.ground(model), world, resolve_model(model, world.package),
+                    RefineOptions(**OPTIONS, update_probability=0.0, time_limit=60))
+    try:
+        kinds = [e.kind for e in engine.run()]
+    finally:
+        world.close()
+    assert engine.result().coverage == pytest.approx(1.0, abs=1e-9)
+    assert "ban" in kinds and engine.resamples == 0
