@@ -118,6 +118,12 @@ def given_up_mass(summary: dict) -> float | None:
     dead, proven = summary.get("dead_end_mass"), summary.get("proven_dead_end_mass")
     if isinstance(dead, (int, float)) and isinstance(proven, (int, float)):
         return max(0.0, float(dead) - float(proven))
+    # stampc's engine: coverage = goal_mass + dead_end_mass, where dead_end_mass holds
+    # only dead ends proven by the reachability fixpoint; a dead end the solver merely
+    # gave up on stays in unrefined_mass, so that is the mass not accounted for
+    if all(isinstance(summary.get(k), (int, float))
+           for k in ("goal_mass", "dead_end_mass", "unrefined_mass")):
+        return float(summary["unrefined_mass"])
     return None
 
 
@@ -173,7 +179,7 @@ def run_job(job: Job) -> RunRecord:
     given_up = given_up_mass(summary)
     if coverage < SOLVED_COVERAGE:
         status = "timeout" if process_s >= job.timeout_s else "partial"
-    elif given_up is not None and given_up > 1e-9:
+    elif given_up is not None and given_up > 1.0 - SOLVED_COVERAGE + 1e-9:
         status = "gave-up"
     else:
         status = "solved" if process_s <= job.timeout_s else "timeout"

@@ -44,7 +44,9 @@ def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
                  if med is not None and cls.paper_time_s else "—")
         paper = ("not attempted" if cls.paper_solved is None
                  else f"{100 * cls.paper_solved:.0f} %")
-        split = "n/a" if all(r.given_up is None for r in rs) else "yes"
+        # the engine's split: median proven-dead-end mass (goal mass = goal prob.)
+        split = ("n/a" if all(r.given_up is None for r in rs) else
+                 f"dead end {_fmt(_median([r.coverage - r.goal_probability for r in rs]), 3)}")
         lines.append(
             f"| {cls.name} | {len(rs)} | {len(solved)}/{len(rs)} | "
             f"{_fmt(_median([r.goal_probability for r in rs]), 3)} | {_fmt(med)} | "
@@ -99,7 +101,9 @@ def table(records: list[Any], classes: Sequence[Any]) -> str:
     notes = [f"- {', '.join(names)}: {note}" for note, names in by_note.items()]
     parts = outcome_table(records, classes) + [
         "", f"Solved: coverage ≥ 0.999 within the timeout and no goal mass given up "
-        f"(\"split n/a\": the engine did not report which dead ends it proved). Times are "
+        f"(coverage counts a dead end only when the abstract model, with everything learned, "
+        f"proves the goal unreachable there; \"split\": the median proven-dead-end mass, the "
+        f"rest of the coverage is goal mass; \"n/a\": the engine did not report it). Times are "
         f"whole processes; \"process / paper avg\" compares them with the paper's average "
         f"(✓ when ≤ 1/{SPEEDUP:.0f}), across different robots, simulators and hardware: "
         f"{PAPER_SETUP}.", "", "Instances:"] + notes + [""] + work_table(records, classes) \

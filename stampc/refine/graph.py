@@ -171,21 +171,51 @@ def path_is_covered(graph: PolicyGraph, path: tuple[int, ...]) -> bool:
     return leaf.terminal and all(graph.nodes[u].refined for u in path[:-1])
 
 
+def open_bounds(graph: PolicyGraph) -> dict[int, float]:
+    """For every node, an upper bound on the probability (from that node) of its most
+    likely *uncovered* continuation: 0 where everything below is covered (or given up,
+    never selectable), 1 at an unrefined node or an open leaf, else the best edge
+    probability × child bound. A max-product fixed point, so cycles converge (every loop
+    multiplies by a probability < 1) — and covered subtrees are never searched."""
+    order = graph.reachable()
+    bound = {u: 0.0 for u in order}
+    for _ in range(10_000):
+        changed = False
+        for uid in reversed(order):
+            node = graph.nodes[uid]
+            if node.is_leaf:
+                new = 0.0 if node.terminal or node.given_up else 1.0
+            elif not node.refined:
+                new = 1.0
+            else:
+                new = max((e.probability * bound[e.child] for e in node.edges), default=0.0)
+            if new > bound[uid] + 1e-15:
+                bound[uid], changed = new, True
+        if not changed:
+            break
+    return bound
+
+
 def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
                 max_pops: int = 200_000) -> tuple[float, float, tuple[int, ...]] | None:
     """The uncovered root-to-leaf path with the largest p / ĉ (greedy knapsack, Thm. 1).
 
     p is the path probability; ĉ the summed estimated refinement cost of the path's
     unrefined nodes (``node_cost``; refined nodes cost 0). Best-first branch and bound:
-    a prefix with probability p and cost c bounds every completion by p / max(c, 1),
-    since an uncovered path costs at least one unit. Cycles are cut (a path never
-    revisits a node). Returns (p, ĉ, path) or None when everything is covered.
+    a prefix with probability p, cost c, ending at a node whose best uncovered
+    continuation has probability at most u (:func:`open_bounds`) bounds every completion
+    by p·u / max(c, 1), since an uncovered path costs at least one unit; subtrees with
+    u = 0 (all covered) are skipped, so the search never enumerates the exponentially
+    many refined paths of a large policy (a 12-level Keva tower). Cycles are cut (a path
+    never revisits a node). Returns (p, ĉ, path), or None when everything is covered.
     """
+    bounds = open_bounds(graph)
+    if bounds.get(graph.root, 0.0) <= 0.0:
+        return None
     counter = 0
     heap: list[tuple[float, int, float, float, tuple[int, ...]]] = []
-    root = graph.nodes[graph.root]
-    c0 = node_cost(root)
-    heapq.heappush(heap, (-1.0 / max(c0, 1.0), counter, 1.0, c0, (graph.root,)))
+    c0 = node_cost(graph.nodes[graph.root])
+    heapq.heappush(heap, (-bounds[graph.root] / max(c0, 1.0), counter, 1.0, c0, (graph.root,)))
     best: tuple[float, float, tuple[int, ...]] | None = None
     best_ratio = 0.0
     pops = 0
@@ -201,13 +231,17 @@ def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
                 if ratio > best_ratio:
                     best, best_ratio = (prob, cost, path), ratio
             continue
+        # below an unrefined node every continuation is uncovered: the bounds (which
+        # assume a refined prefix) apply only while the prefix is refined
+        prefix_refined = node.refined and cost == 0.0
         for e in node.edges:
-            if e.child in path or e.probability <= 0.0:
+            u = bounds.get(e.child, 0.0) if prefix_refined else 1.0
+            if e.child in path or e.probability <= 0.0 or u <= 0.0:
                 continue
             child = graph.nodes[e.child]
             p2, c2 = prob * e.probability, cost + node_cost(child)
             counter += 1
-            heapq.heappush(heap, (-p2 / max(c2, 1.0), counter, p2, c2, path + (e.child,)))
+            heapq.heappush(heap, (-p2 * u / max(c2, 1.0), counter, p2, c2, path + (e.child,)))
     return best
 
 

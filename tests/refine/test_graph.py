@@ -140,3 +140,29 @@ def test_copy_is_independent():
     h[0].edges.append(edge(0.0, 1))
     assert g[0].sigma is None and len(g[0].edges) == 1
     assert coverage(g) == 0.0 and coverage(h) == pytest.approx(1.0)
+
+
+def test_select_path_finds_the_open_leaf_under_exponentially_many_refined_paths():
+    """A refined ladder of 40 two-way branches that merge again (2^40 root-to-leaf paths,
+    like a Keva tower whose feed outcomes lead to the same concrete state) above a single
+    horizon leaf: the search must skip covered subtrees rather than enumerate paths (it
+    used to run out of its pop budget and report nothing left to refine)."""
+    spec: dict[int, tuple] = {}
+    for level in range(40):
+        a, b, nxt = 3 * level, 3 * level + 1, 3 * level + 3
+        spec[a] = ("act", True, [(0.8, b), (0.2, 3 * level + 2)])
+        spec[b] = ("act", True, [(1.0, nxt)])
+        spec[3 * level + 2] = ("act", True, [(1.0, nxt)])
+    spec[120] = ("act", True, [(0.5, 121), (0.5, 122)])
+    spec[121] = ("leaf", GOAL)
+    spec[122] = ("leaf", HORIZON)
+    g = build(spec)
+
+    def node_cost(n):
+        return 4.0 if n.leaf == HORIZON else 0.0
+
+    chosen = select_path(g, node_cost, max_pops=10_000)
+    assert chosen is not None
+    p, c, path = chosen
+    assert path[-1] == 122 and c == 4.0
+    assert p == pytest.approx(0.5 * 0.8 ** 40)  # the most likely way down: every 0.8 edge
