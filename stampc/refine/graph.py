@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import copy
 import heapq
+import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator, Mapping
 
@@ -171,29 +172,53 @@ def path_is_covered(graph: PolicyGraph, path: tuple[int, ...]) -> bool:
     return leaf.terminal and all(graph.nodes[u].refined for u in path[:-1])
 
 
-def open_bounds(graph: PolicyGraph) -> dict[int, float]:
-    """For every node, an upper bound on the probability (from that node) of its most
-    likely *uncovered* continuation: 0 where everything below is covered (or given up,
-    never selectable), 1 at an unrefined node or an open leaf, else the best edge
-    probability × child bound. A max-product fixed point, so cycles converge (every loop
-    multiplies by a probability < 1) — and covered subtrees are never searched."""
+@dataclass(frozen=True)
+class Bounds:
+    """Per node, bounds on its continuations to a selectable leaf: the most likely one's
+    probability and the cheapest one's remaining ĉ (both counting from below the node).
+    ``*_open``: continuations that are uncovered given a refined path down to the node;
+    ``*_any``: every continuation (below an unrefined node, all of them are uncovered)."""
+
+    p_open: dict[int, float]
+    p_any: dict[int, float]
+    c_open: dict[int, float]
+    c_any: dict[int, float]
+
+
+def path_bounds(graph: PolicyGraph, node_cost: Callable[[Node], float]) -> Bounds:
+    """Fixed points over the policy graph (cycles converge: a loop multiplies
+    probabilities < 1 and adds costs >= 0). A node's own ĉ counts in its parent's sums."""
     order = graph.reachable()
-    bound = {u: 0.0 for u in order}
+    inf = math.inf
+    p_open, p_any = {u: 0.0 for u in order}, {u: 0.0 for u in order}
+    c_open, c_any = {u: inf for u in order}, {u: inf for u in order}
     for _ in range(10_000):
         changed = False
         for uid in reversed(order):
             node = graph.nodes[uid]
             if node.is_leaf:
-                new = 0.0 if node.terminal or node.given_up else 1.0
-            elif not node.refined:
-                new = 1.0
+                selectable = not node.given_up and node_cost(node) < inf
+                new = (1.0 if selectable and not node.terminal else 0.0,
+                       1.0 if selectable else 0.0, 0.0, 0.0)
             else:
-                new = max((e.probability * bound[e.child] for e in node.edges), default=0.0)
-            if new > bound[uid] + 1e-15:
-                bound[uid], changed = new, True
+                kids = [(e.probability, e.child, node_cost(graph.nodes[e.child]))
+                        for e in node.edges if e.probability > 0.0]
+                any_p = max((q * p_any[c] for q, c, _ in kids), default=0.0)
+                any_c = min((k + c_any[c] for _, c, k in kids), default=inf)
+                if node.refined:
+                    new = (max((q * p_open[c] if graph.nodes[c].refined or graph.nodes[c].is_leaf
+                                else q * p_any[c] for q, c, _ in kids), default=0.0), any_p,
+                           min((k + (c_open[c] if graph.nodes[c].refined or graph.nodes[c].is_leaf
+                                     else c_any[c]) for _, c, k in kids), default=inf), any_c)
+                else:
+                    new = (any_p, any_p, any_c, any_c)
+            old = (p_open[uid], p_any[uid], c_open[uid], c_any[uid])
+            if any(a != b and abs(a - b) > 1e-15 for a, b in zip(new, old)):
+                p_open[uid], p_any[uid], c_open[uid], c_any[uid] = new
+                changed = True
         if not changed:
             break
-    return bound
+    return Bounds(p_open, p_any, c_open, c_any)
 
 
 def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
@@ -202,46 +227,51 @@ def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
 
     p is the path probability; ĉ the summed estimated refinement cost of the path's
     unrefined nodes (``node_cost``; refined nodes cost 0). Best-first branch and bound:
-    a prefix with probability p, cost c, ending at a node whose best uncovered
-    continuation has probability at most u (:func:`open_bounds`) bounds every completion
-    by p·u / max(c, 1), since an uncovered path costs at least one unit; subtrees with
-    u = 0 (all covered) are skipped, so the search never enumerates the exponentially
-    many refined paths of a large policy (a 12-level Keva tower). Cycles are cut (a path
-    never revisits a node). Returns (p, ĉ, path), or None when everything is covered.
+    a prefix with probability p and cost c, ending at a node whose continuations have
+    probability at most u and cost at least r (:func:`path_bounds`), bounds every
+    completion by p·u / max(c + r, 1). Subtrees with nothing uncovered (u = 0) are
+    skipped, and the cost bound leads the search straight down long unrefined chains,
+    so it never enumerates the exponentially many paths of a large policy (a 12- or
+    24-level Keva tower, where each feed outcome rejoins the chain). Cycles are cut (a
+    path never revisits a node). Returns (p, ĉ, path), or None when nothing is left.
     """
-    bounds = open_bounds(graph)
-    if bounds.get(graph.root, 0.0) <= 0.0:
+    b = path_bounds(graph, node_cost)
+    root = graph.nodes[graph.root]
+    c0 = node_cost(root)
+    u0, r0 = ((b.p_open, b.c_open) if root.refined or root.is_leaf else (b.p_any, b.c_any))
+    if u0[graph.root] <= 0.0:
         return None
     counter = 0
-    heap: list[tuple[float, int, float, float, tuple[int, ...]]] = []
-    c0 = node_cost(graph.nodes[graph.root])
-    heapq.heappush(heap, (-bounds[graph.root] / max(c0, 1.0), counter, 1.0, c0, (graph.root,)))
+    heap: list[tuple[float, int, float, float, bool, tuple[int, ...]]] = []
+    heapq.heappush(heap, (-u0[graph.root] / max(c0 + r0[graph.root], 1.0), counter, 1.0, c0,
+                          root.refined or root.is_leaf, (graph.root,)))
     best: tuple[float, float, tuple[int, ...]] | None = None
     best_ratio = 0.0
     pops = 0
     while heap and pops < max_pops:
-        neg_bound, _, prob, cost, path = heapq.heappop(heap)
+        neg_bound, _, prob, cost, refined_prefix, path = heapq.heappop(heap)
         pops += 1
         if -neg_bound <= best_ratio:
             break
         node = graph.nodes[path[-1]]
         if node.is_leaf:
-            if not path_is_covered(graph, path) and cost > 0:
+            if not path_is_covered(graph, path) and 0 < cost < math.inf:
                 ratio = prob / cost
                 if ratio > best_ratio:
                     best, best_ratio = (prob, cost, path), ratio
             continue
-        # below an unrefined node every continuation is uncovered: the bounds (which
-        # assume a refined prefix) apply only while the prefix is refined
-        prefix_refined = node.refined and cost == 0.0
         for e in node.edges:
-            u = bounds.get(e.child, 0.0) if prefix_refined else 1.0
-            if e.child in path or e.probability <= 0.0 or u <= 0.0:
+            if e.child in path or e.probability <= 0.0:
                 continue
             child = graph.nodes[e.child]
+            still = refined_prefix and (child.refined or child.is_leaf)
+            u, r = (b.p_open, b.c_open) if still else (b.p_any, b.c_any)
+            if u[e.child] <= 0.0:
+                continue
             p2, c2 = prob * e.probability, cost + node_cost(child)
             counter += 1
-            heapq.heappush(heap, (-p2 * u / max(c2, 1.0), counter, p2, c2, path + (e.child,)))
+            heapq.heappush(heap, (-p2 * u[e.child] / max(c2 + r[e.child], 1.0), counter, p2,
+                                  c2, still, path + (e.child,)))
     return best
 
 
