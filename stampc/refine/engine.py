@@ -174,7 +174,13 @@ class Engine:
         graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
         selected = select_path(graph, self._node_cost)
         if selected is None:
-            return "exhausted", "no uncovered path can be refined"
+            # nothing selectable here (given-up leaves, or merges that closed a loop with
+            # no way out, e.g. after an explore step): this PRG node is spent, but its
+            # ancestors may still broaden — only the root's exhaustion ends the run
+            self.prg.nodes[self.current]["exhausted"] = True
+            if self.current == 0:
+                return "exhausted", "no uncovered path can be refined"
+            return self._backtrack(None)
         _, _, path = selected
         for i, uid in enumerate(path):
             node = graph[uid]
@@ -379,14 +385,15 @@ class Engine:
         self._track(v, new_graph)
         return kind, ", ".join(facts) or "action banned"
 
-    def _backtrack(self, uid: int) -> tuple[str, str]:
-        """Iterative broadening: return to the deepest PRG ancestor with spare breadth."""
+    def _backtrack(self, uid: int | None) -> tuple[str, str]:
+        """Iterative broadening: return to the deepest PRG ancestor with spare breadth
+        (never to one found exhausted)."""
         u = self.current
         while u is not None:
             graph = self.prg.nodes[u]["graph"]
-            if uid in graph.nodes:
+            if uid is not None and uid in graph.nodes:
                 graph[uid].attempts += 1  # next visit draws fresh samples
-            if self.prg.out_degree(u) < self.breadth:
+            if self.prg.out_degree(u) < self.breadth and not self.prg.nodes[u].get("exhausted"):
                 self.current = u
                 return "backtrack", f"to PRG node {u}"
             u = self.prg.nodes[u]["parent"]

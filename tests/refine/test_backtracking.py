@@ -101,3 +101,35 @@ def test_an_action_that_can_never_work_is_banned_before_any_ancestor_is_resample
         world.close()
     assert engine.result().coverage == pytest.approx(1.0, abs=1e-9)
     assert "ban" in kinds and engine.resamples == 0
+
+
+def test_a_spent_prg_node_backtracks_instead_of_ending_the_run():
+    """A PRG node with nothing left to select (here: every leaf given up; in Keva, merges
+    after an explore step that closed a loop with no way out) is marked exhausted and
+    the iterative broadening goes on from its ancestors; only the root's exhaustion
+    stops the run."""
+    from stampc.refine.graph import DEAD_END
+
+    model = stampc.load_model([DATA / "store.stamp", DATA / "store1.stamp"])
+    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
+    engine = Engine(stampc.ground(model), world, resolve_model(model, world.package),
+                    RefineOptions(**OPTIONS, time_limit=60))
+    try:
+        events = engine.run()
+        assert next(events).kind == "start"
+        spent = engine.prg.nodes[0]["graph"].copy()
+        for node in spent.nodes.values():
+            if node.is_leaf:
+                node.leaf, node.given_up = DEAD_END, True
+        engine.prg.add_node(1, graph=spent, parent=0, failed=False)
+        engine.prg.add_edge(0, 1, node=spent.root, failed_preconditions=[])
+        engine.current = 1
+        kind, _ = engine.step()
+        assert kind == "backtrack" and engine.current == 0
+        assert engine.prg.nodes[1]["exhausted"]
+        # the run then goes on from the root and still refines the store
+        for event in events:
+            pass
+        assert engine.result().coverage == pytest.approx(1.0, abs=1e-9)
+    finally:
+        world.close()
