@@ -32,9 +32,9 @@ import networkx as nx
 from stampc.ir.grounded import GroundModel
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
-                                 abstract_goal_probability, coverage, dead_end_mass,
-                                 detach_subtree, goal_probability, iter_leaf_paths,
-                                 path_is_covered, path_values, select_path)
+                                 abstract_goal_probability, count_covered_paths, coverage,
+                                 dead_end_mass, detach_subtree, goal_probability,
+                                 path_values, select_path)
 from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
 from stampc.refine.planner import AbstractPlanner
 from stampc.worlds.bindings import ResolvedBindings
@@ -71,6 +71,7 @@ class Engine:
         #: (abstract state, action) bans and the node whose failures caused each
         self._bans: dict[tuple[int, int], int] = {}
         self._start = time.perf_counter()
+        self._stopped: float | None = None
 
     # ------------------------------------------------------------- driving
     def run(self) -> Iterator[ProgressEvent]:
@@ -80,10 +81,12 @@ class Engine:
             self.planner.deadline = self._start + self.options.time_limit
             self.concretizer.deadline = self.planner.deadline
         self.planner.solve_time_limit = self.options.solve_time_limit
+        self._stopped = None
         initial = self.world.snapshot()
         try:
             yield from self._loop()
         finally:
+            self._stopped = time.perf_counter()
             self.world.restore(initial)  # leave the world as we found it
 
     def _loop(self) -> Iterator[ProgressEvent]:
@@ -114,7 +117,7 @@ class Engine:
         cov = coverage(graph) if graph else 0.0
         goal = goal_probability(graph) if graph else 0.0
         dead = dead_end_mass(graph) if graph else 0.0
-        refined_paths = sum(1 for _, p in iter_leaf_paths(graph) if path_is_covered(graph, p)) if graph else 0
+        refined_paths = count_covered_paths(graph) if graph else 0
         return RefineResult(
             coverage=cov,
             goal_probability=goal,
@@ -132,7 +135,10 @@ class Engine:
             solver_timeouts=self.planner.timeouts, resamples=self.resamples)
 
     def elapsed(self) -> float:
-        return time.perf_counter() - self._start
+        """Seconds in the engine's loop: frozen when the loop ends, so the summary's time
+        is the one ``time_limit`` applies to (not the reporting after it)."""
+        end = self._stopped if self._stopped is not None else time.perf_counter()
+        return end - self._start
 
     # ---------------------------------------------------------- initialise
     def _initialise(self) -> bool:

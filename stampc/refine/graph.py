@@ -275,6 +275,39 @@ def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
     return best
 
 
+def count_covered_paths(graph: PolicyGraph) -> int:
+    """Number of covered root-to-leaf paths (refined all the way to a goal or a proven
+    dead end), by dynamic programming over the graph — linear in its size, where listing
+    the paths is exponential (a 12-level Keva policy has 2^24). A path that would revisit
+    a node (a retry loop) is cut there: edges back to a node on the depth-first stack are
+    not followed (with cycles, a node's count is the one of its first visit, so it can
+    differ from :func:`iter_leaf_paths`'s enumeration; on acyclic graphs it is exact)."""
+    count: dict[int, int] = {}
+    on_stack: set[int] = set()
+    stack: list[tuple[int, int]] = [(graph.root, 0)]
+    while stack:
+        uid, i = stack.pop()
+        node = graph.nodes[uid]
+        if i == 0:
+            if node.is_leaf:
+                count[uid] = 1 if node.terminal else 0
+                continue
+            if not node.refined:
+                count[uid] = 0
+                continue
+            on_stack.add(uid)
+        if i < len(node.edges):
+            stack.append((uid, i + 1))
+            child = node.edges[i].child
+            if child not in count and child not in on_stack:
+                stack.append((child, 0))
+            continue
+        on_stack.discard(uid)
+        count[uid] = sum(count.get(e.child, 0) for e in node.edges
+                         if e.child not in on_stack)
+    return count.get(graph.root, 0)
+
+
 def iter_leaf_paths(graph: PolicyGraph, limit: int = 100_000) -> Iterator[tuple[float, tuple[int, ...]]]:
     """Acyclic root-to-leaf paths with probabilities (for tests and small graphs)."""
     stack: list[tuple[float, tuple[int, ...]]] = [(1.0, (graph.root,))]

@@ -8,6 +8,7 @@ import pytest
 
 from stampc.ir.grounded import Successor
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph, coverage,
+                                 count_covered_paths,
                                  dead_end_mass, goal_probability, iter_leaf_paths,
                                  path_is_covered, select_path)
 
@@ -166,3 +167,31 @@ def test_select_path_finds_the_open_leaf_under_exponentially_many_refined_paths(
     p, c, path = chosen
     assert path[-1] == 122 and c == 4.0
     assert p == pytest.approx(0.5 * 0.8 ** 40)  # the most likely way down: every 0.8 edge
+
+
+def test_count_covered_paths_matches_enumeration_and_scales():
+    import random
+    rng = random.Random(3)
+    for _ in range(40):
+        spec, frontier, uid = {}, [0], 1
+        while frontier:
+            u = frontier.pop()
+            if uid > 20 or rng.random() < 0.3:
+                spec[u] = ("leaf", rng.choice([GOAL, DEAD_END, HORIZON]))
+                continue
+            k = rng.randint(1, 3)
+            spec[u] = ("act", rng.random() < 0.7, [(1.0 / k, uid + i) for i in range(k)])
+            frontier.extend(uid + i for i in range(k))
+            uid += k
+        g = build(spec)
+        expected = sum(1 for _, p in iter_leaf_paths(g) if path_is_covered(g, p))
+        assert count_covered_paths(g) == expected
+    # the merging ladder of 40 two-way branches: 2^40 covered paths, counted at once
+    spec = {}
+    for level in range(40):
+        a, nxt = 3 * level, 3 * level + 3
+        spec[a] = ("act", True, [(0.8, a + 1), (0.2, a + 2)])
+        spec[a + 1] = ("act", True, [(1.0, nxt)])
+        spec[a + 2] = ("act", True, [(1.0, nxt)])
+    spec[120] = ("leaf", GOAL)
+    assert count_covered_paths(build(spec)) == 2 ** 40
