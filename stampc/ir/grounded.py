@@ -35,10 +35,21 @@ class GroundAtom:
 
 def bits(mask: int) -> Iterator[int]:
     """Indices of the set bits of ``mask``, ascending."""
-    while mask:
-        low = mask & -mask
-        yield low.bit_length() - 1
-        mask ^= low
+    if mask.bit_length() <= 256:
+        while mask:
+            low = mask & -mask
+            yield low.bit_length() - 1
+            mask ^= low
+        return
+    # A large mask: each ``mask & -mask`` above costs O(size), so peeling k bits costs
+    # O(k·size) (a 60-can table's relaxed model spent 3.7 s here). Scanning its binary
+    # text from the low end with str.rfind costs O(size) in all.
+    text = bin(mask)
+    last = len(text) - 1
+    i = text.rfind("1", 2)
+    while i >= 2:
+        yield last - i
+        i = text.rfind("1", 2, i)
 
 
 # ------------------------------------------------------------ conditions
