@@ -2,12 +2,12 @@
 
 Codes are stable: tools match on them. ``E0xx`` syntax and structure, ``E1xx`` names,
 ``E2xx`` arity/types/duplicates, ``E3xx`` stochastic and TAMP rules, ``E5xx`` lowering,
-``W4xx`` warnings (lints).
+``E6xx`` bound Python code read statically, ``W4xx`` warnings (lints), ``N6xx`` notes.
 """
 
 from __future__ import annotations
 
-from stampc.diagnostics import Diagnostic, Label, Severity, Span, error, warning
+from stampc.diagnostics import Diagnostic, Label, Severity, Span
 
 CODES: dict[str, tuple[Severity, str]] = {
     "E001": (Severity.ERROR, "syntax error"),
@@ -38,12 +38,19 @@ CODES: dict[str, tuple[Severity, str]] = {
     "E308": (Severity.ERROR, "unreachable goal fact"),
     "E309": (Severity.ERROR, "generator output of a non-continuous type"),
     "E501": (Severity.ERROR, "cannot lower to the lifted IR"),
+    "E601": (Severity.ERROR, "bound module not found or unreadable"),
+    "E602": (Severity.ERROR, "bound module has no such function"),
+    "E603": (Severity.ERROR, "bound function cannot take the arguments the engine passes"),
+    "E604": (Severity.ERROR, "executor reads an action parameter the action does not declare"),
+    "E605": (Severity.ERROR, "generator samples of the wrong size"),
+    "N601": (Severity.NOTE, "binding not checked: its module cannot be read without importing"),
     "W401": (Severity.WARNING, "unused predicate"),
     "W402": (Severity.WARNING, "unused type"),
     "W403": (Severity.WARNING, "unused generator"),
     "W404": (Severity.WARNING, "`?` fact never read by a precondition"),
     "W405": (Severity.WARNING, "`?` predicate read both positively and negatively"),
     "W406": (Severity.WARNING, "evaluator for a predicate no effect marks with `?`"),
+    "W407": (Severity.WARNING, "bound function's parameters in another order than declared"),
 }
 
 
@@ -51,5 +58,4 @@ def diag(code: str, message: str, span: Span, hint: str | None = None,
          labels: tuple[Label, ...] = ()) -> Diagnostic:
     """A diagnostic with the severity registered for ``code``."""
     severity, _title = CODES[code]
-    make = error if severity is Severity.ERROR else warning
-    return make(code, message, span, hint, labels)
+    return Diagnostic(code, severity, message, span, hint, tuple(labels))
