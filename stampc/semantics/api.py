@@ -24,7 +24,8 @@ from stampc.syntax import ast
 from stampc.syntax.parser import no_gc_pauses, parse_source
 
 PathOrText = Union[str, Path]
-PARTIAL_AST = frozenset({"E001", "E006"})  # syntax errors and over-deep nesting drop declarations
+# syntax errors, over-deep nesting and misplaced index variables drop declarations
+PARTIAL_AST = frozenset({"E001", "E006", "E007", "E008"})
 
 
 @dataclass(frozen=True)

@@ -12,12 +12,11 @@ from fractions import Fraction
 from typing import Union
 
 from stampc.diagnostics import Span
+from stampc.syntax.indexed import (IndexCond, IndexedAtom, IndexedName, IndexExpr, IndexNum,  # noqa: F401
+                                   IndexOp, IndexRange, IndexVar, InitForall, NOWHERE, ObjectGrid,
+                                   span_field)
 
-NOWHERE = Span("<none>", 1, 1, 1, 1)
-
-
-def _span() -> Span:
-    return field(default=NOWHERE, compare=False, repr=False)
+_span = span_field
 
 
 @dataclass(frozen=True, slots=True)
@@ -295,7 +294,7 @@ class ObjectRange:
 
 @dataclass(frozen=True, slots=True)
 class ObjectDecl:
-    items: tuple[Ident | ObjectRange, ...]
+    items: tuple[Ident | ObjectRange | ObjectGrid, ...]
     type: Ident
     span: Span = _span()
 
@@ -309,7 +308,7 @@ class InitValue:
 
 @dataclass(frozen=True, slots=True)
 class InitDecl:
-    facts: tuple[Atom | InitValue, ...]
+    facts: tuple[Atom | InitValue | InitForall, ...]
     span: Span = _span()
 
 

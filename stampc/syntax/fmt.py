@@ -12,6 +12,7 @@ import bisect
 from fractions import Fraction
 
 from stampc.syntax import ast
+from stampc.syntax.fmt_index import init_forall_text, object_item_text
 
 PREC_IMPLIES, PREC_OR, PREC_AND, PREC_NOT = 0, 1, 2, 3
 CLAUSE = "    "
@@ -201,11 +202,11 @@ def format_decl(d: ast.Decl) -> list[str]:
     if isinstance(d, ast.ActionDecl):
         return _action(d)
     if isinstance(d, ast.ObjectDecl):
-        items = [i.name if isinstance(i, ast.Ident) else f"{i.first.name}..{i.last.name}"
-                 for i in d.items]
+        items = [object_item_text(i) for i in d.items]
         return [f"object {', '.join(items)}: {d.type.name}"]
     if isinstance(d, ast.InitDecl):
-        facts = [fmt_atom(f) if isinstance(f, ast.Atom) else
+        facts = [fmt_atom(f) if isinstance(f, ast.Atom) else init_forall_text(f)
+                 if isinstance(f, ast.InitForall) else
                  f"{fmt_atom(f.atom)} = {fmt_number(f.value)}" for f in d.facts]
         if not facts:
             return ["init"]
