@@ -222,10 +222,15 @@ class ConstantDecl:
 
 @dataclass(frozen=True, slots=True)
 class PredicateDecl:
+    """A predicate; ``derived`` holds the definition of a derived one
+    (``derived predicate p(x: t) := formula``), whose value is never set by effects."""
+
     name: Ident
     params: tuple[Param, ...]
     static: bool = False
     span: Span = _span()
+    symmetric: bool = False
+    derived: "Formula | None" = None
 
 
 @dataclass(frozen=True, slots=True)

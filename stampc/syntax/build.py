@@ -85,8 +85,15 @@ class Builder(IndexBuilder):
 
     def predicate_decl(self, *children):
         static = is_token(children[0], "STATIC")
-        name, params = children[1:] if static else children
-        return ast.PredicateDecl(self.ident(name), tuple(params or ()), static, self.tspan(name))
+        rest = children[1:] if static else children
+        symmetric = is_token(rest[0], "SYMMETRIC")
+        name, params = rest[1:] if symmetric else rest
+        return ast.PredicateDecl(self.ident(name), tuple(params or ()), static, self.tspan(name),
+                                 symmetric)
+
+    def derived_decl(self, _kw, name, params, _define, body):
+        return ast.PredicateDecl(self.ident(name), tuple(params or ()), False, self.tspan(name),
+                                 derived=body)
 
     def function_decl(self, name, params):
         return ast.FunctionDecl(self.ident(name), tuple(params or ()), self.tspan(name))

@@ -43,6 +43,8 @@ def _roots(decl: ast.Decl) -> tuple:
         return tuple(x for x in (decl.pre, decl.eff, decl.cost) if x is not None)
     if isinstance(decl, ast.GoalDecl):
         return (decl.formula,)
+    if isinstance(decl, ast.PredicateDecl) and decl.derived is not None:
+        return (decl.derived,)
     return ()
 
 

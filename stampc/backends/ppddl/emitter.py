@@ -25,6 +25,7 @@ import jinja2
 from stampc.backends.ppddl import render
 from stampc.backends.ppddl.mangle import mangle_model
 from stampc.backends.ppddl.requirements import required_flags
+from stampc.ir.derived import compile_derived
 from stampc.ir.grounded import GroundAtom
 from stampc.ir.lifted import (
     TRUE, Action, Atom, Const, CostEffect, EffAnd, Effect, Model, Num, NumExpr, Object,
@@ -49,6 +50,7 @@ def emit_ppddl(model: Model, *, extra_objects: Iterable[Object | tuple[str, str]
     ``extra_objects``/``extra_init`` add objects (e.g. Skolem symbols) and true facts
     (e.g. certified atoms) produced by grounding to the problem.
     """
+    model = compile_derived(model)  # PPDDL has no derived predicates: docs/ir.md
     stamp_origin = not model.domain.requirements
     costed, explicit_costs = _fold_base_costs(model, stamp_origin)
     mangled = mangle_model(costed, tuple(_as_object(o) for o in extra_objects),
