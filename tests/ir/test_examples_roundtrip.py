@@ -21,7 +21,7 @@ from stampc.ir.json_io import (grounded_from_json, grounded_to_json, lifted_from
                                lifted_to_json, read_ir_json)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-NAMES = ["cluttered_table", "domino", "keva", "aircraft_inspection"]
+NAMES = ["cluttered_table", "domino", "keva", "aircraft_inspection", "warehouse", "kitchen"]
 
 
 def compiled(name: str):
