@@ -95,3 +95,26 @@ def test_parse_fmt_roundtrip_of_index_expressions(index, bound, op) -> None:
     program = ast.Program((ast.ProblemHeader(ast.Ident("p"), ast.Ident("grid")),
                            ast.InitDecl((forall,))))
     assert parse(format_program(program)) == program
+
+
+DERIVED = """domain d
+type cell
+symmetric predicate adjacent(a, b: cell)
+static symmetric predicate wall(a, b: cell)
+predicate blocked(c: cell)
+derived predicate open(a, b: cell) := adjacent(a, b) and not blocked(b) and not wall(a, b)
+derived predicate linked(a, b: cell) :=
+    open(a, b) or exists (c: cell) (open(a, c) and linked(c, b))
+    not blocked(a)
+"""
+
+
+def test_fmt_prints_derived_and_symmetric_predicates_canonically() -> None:
+    program = parse(DERIVED)
+    text = format_program(program)
+    assert "static symmetric predicate wall(a: cell, b: cell)" in text
+    # a conjunction is one conjunct per line, as in `pre`
+    assert "derived predicate open(a: cell, b: cell) :=\n    adjacent(a, b)\n    not blocked(b)" in text
+    assert "derived predicate linked(a: cell, b: cell) :=\n    open(a, b) or exists" in text
+    assert parse(text) == program
+    assert format_program(parse(text)) == text

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import stampc
 from stampc.backends.ppddl import import_ppddl_text
-from stampc.ir.grounded import GroundModel
+
+from .states import reachable_fact_sets
 
 HERE = Path(__file__).resolve().parent / "derived"
 
@@ -17,19 +18,8 @@ def imported(domain: str, problem: str):
                              domain_text=(HERE / domain).read_text(), domain_filename=domain)
 
 
-def states(gm: GroundModel) -> set[frozenset[str]]:
-    seen, stack = {gm.init}, [gm.init]
-    while stack:
-        s = stack.pop()
-        for a in gm.actions:
-            if a.precondition.holds(s):
-                for o in a.outcomes(s):
-                    n = o.apply(s)
-                    if n not in seen:
-                        seen.add(n)
-                        stack.append(n)
-    return {frozenset(str(f) for f in gm.state_facts(s) if f.predicate in ("on", "fixed"))
-            for s in seen}
+def states(gm) -> set[frozenset[str]]:
+    return reachable_fact_sets(gm, {"on", "fixed"})
 
 
 def test_derived_domain_imports_with_its_axioms():
