@@ -32,13 +32,14 @@ from stampc.ir.ground_context import located
 Key = tuple[str, tuple[str, ...]]
 
 
-def compile_derived(model: L.Model) -> L.Model:
-    """``model`` with derived and symmetric predicates compiled away (itself if none)."""
+def compile_derived(model: L.Model, *, keep_axioms: bool = False) -> L.Model:
+    """``model`` with derived and symmetric predicates compiled away (itself if none);
+    ``keep_axioms``: only symmetric ones (for a target that reads ``:derived``)."""
     domain = model.domain
     if not domain.axioms and not any(p.symmetric or p.derived for p in domain.predicates):
         return model
     model = _mirror_symmetric(model)
-    return _expand_axioms(model)
+    return model if keep_axioms else _expand_axioms(model)
 
 
 # ---------------------------------------------------------------- symmetric
