@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from stampc.diagnostics import Diagnostic, Span, error
 from stampc.syntax import ast
-from stampc.syntax.indexed import index_vars, indexed_name
+from stampc.syntax.indexed import evaluate, index_vars, indexed_name
 from stampc.syntax.spans import make_span, merge
 
 UNBOUND_INDEX = "E007"
@@ -66,8 +66,12 @@ class IndexBuilder:
     def indexed(self, name, *indices):
         last = indices[-1].span
         span = make_span(self.file, name[2], name[3], last.end_line, last.end_col + 1)
-        if all(isinstance(i, ast.IndexNum) for i in indices):
-            return ast.Ident(indexed_name(name[1], tuple(i.value for i in indices)), span)
+        if not any(index_vars(i) for i in indices):  # whole numbers: the name itself
+            values = tuple(evaluate(i, {}) for i in indices)
+            if any(v < 0 for v in values):
+                raise BuildError([error(BAD_INDEX, f"index {min(values)} is negative", span,
+                                        "indices count objects: 0, 1, 2, ...")])
+            return ast.Ident(indexed_name(name[1], values), span)
         node = ast.IndexedName(name[1], tuple(indices), span)
         self.loose[id(node)] = node
         return node

@@ -108,17 +108,32 @@ def indexed_name(base: str, values: tuple[int, ...]) -> str:
 
 
 def index_vars(e: IndexExpr) -> list[IndexVar]:
-    if isinstance(e, IndexVar):
-        return [e]
-    if isinstance(e, IndexOp):
-        return index_vars(e.left) + index_vars(e.right)
-    return []
+    """The variables of ``e``, left to right (an explicit stack: chains such as
+    ``i + 1 + 1 + ...`` nest as deep as they are long)."""
+    out: list[IndexVar] = []
+    stack: list[IndexExpr] = [e]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, IndexVar):
+            out.append(node)
+        elif isinstance(node, IndexOp):
+            stack.extend((node.right, node.left))
+    return out
 
 
 def evaluate(e: IndexExpr, env: dict[str, int]) -> int:
-    if isinstance(e, IndexNum):
-        return e.value
-    if isinstance(e, IndexVar):
-        return env[e.name]
-    a, b = evaluate(e.left, env), evaluate(e.right, env)
-    return a + b if e.op == "+" else a - b if e.op == "-" else a * b
+    """The value of ``e`` with variables from ``env`` (iterative, like :func:`index_vars`)."""
+    values: list[int] = []
+    stack: list[IndexExpr | str] = [e]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, str):  # an operator whose operands are computed
+            b, a = values.pop(), values.pop()
+            values.append(a + b if node == "+" else a - b if node == "-" else a * b)
+        elif isinstance(node, IndexNum):
+            values.append(node.value)
+        elif isinstance(node, IndexVar):
+            values.append(env[node.name])
+        else:
+            stack.extend((node.op, node.right, node.left))
+    return values[0]

@@ -118,3 +118,12 @@ def test_fmt_prints_derived_and_symmetric_predicates_canonically() -> None:
     assert "derived predicate linked(a: cell, b: cell) :=\n    open(a, b) or exists" in text
     assert parse(text) == program
     assert format_program(parse(text)) == text
+
+
+def test_deep_index_chains_are_limited_not_crashing() -> None:
+    deep = PROBLEM.replace("adjacent(cell(i, j), cell(i + 1, j))",
+                           "adjacent(cell(i, j), cell(i" + " + 0" * 3000 + " + 1, j))")
+    assert [d.code for d in check(deep)] == ["E006"]
+    literal = PROBLEM.replace("at(bot, cell(0, 0))", "at(bot, cell(1 - 1" + " + 0" * 3000 + ", 0))")
+    assert check(literal) == []  # whole-number indices are computed while parsing
+    assert [d.code for d in check(PROBLEM.replace("cell(4, 3))", "cell(4, 3 - 4))"))] == ["E008"]
