@@ -74,7 +74,9 @@ def _check_generator(gen: ast.GeneratorDecl, base: Ctx) -> None:
                               "generators produce values of `continuous type`s (poses, grasps, ...)"))
     names = {p.name.name for p in gen.outputs}
     for atom in gen.certifies:
-        check_atom(atom, env, base)
+        decl = check_atom(atom, env, base)
+        if decl is not None and decl.derived is not None:
+            diags.append(effect_on_derived(decl, atom, "generator certifies"))
         names -= {a.name for a in atom.args}
     for missing in names:
         out = next(p for p in gen.outputs if p.name.name == missing)
