@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 import stampc
 from stampc.backends.ppddl import import_ppddl_text
 
@@ -67,3 +69,29 @@ def test_stamp_example_with_derived_and_symmetric_predicates_emits_both_ways():
     assert "(adjacent cell_1_0 cell_0_0)" in out  # symmetric facts are written both ways
     code, out, _ = run_command(compile_cmd, files + ["--target", "ppddl"])
     assert code == 0 and ":derived" not in out and "(not (rack ?b))" in out
+
+
+def _ground_codes(domain_text: str) -> list[str]:
+    problem = (HERE / "problem.pddl").read_text()
+    model = import_ppddl_text(problem, "p.pddl", domain_text=domain_text, domain_filename="d.pddl")
+    try:
+        stampc.ground(model)
+    except stampc.StampcError as exc:
+        return [d.code for d in exc.diagnostics]
+    return []
+
+
+def test_unstratified_and_misdeclared_axioms_are_reported_when_grounding():
+    domain = (HERE / "domain.pddl").read_text()
+    loop = domain.replace("(:derived (base ?a - block) (on ?a table))",
+                          "(:derived (base ?a - block) (not (stacked ?a ?a)))\n"
+                          "  (:derived (stacked ?a - block ?b - block) (base ?a))")
+    assert "G121" in _ground_codes(loop)
+    model = imported("domain.pddl", "problem.pddl")
+    from dataclasses import replace
+    from stampc.ir.lifted import Axiom, Truth
+    bad = replace(model, domain=replace(model.domain, axioms=model.domain.axioms + (
+        Axiom("nowhere", (), Truth(True)),)))
+    with pytest.raises(stampc.StampcError) as info:
+        stampc.ground(bad)
+    assert [d.code for d in info.value.diagnostics] == ["G120"]
