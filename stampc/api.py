@@ -74,10 +74,11 @@ def solve(ground_model, options=None, **kwargs):
     return _solve(ground_model, options or SolverOptions(), **kwargs)
 
 
-def to_ppddl(model: Model) -> tuple[str, str]:
-    """PPDDL (domain, problem) text (see ``stampc.backends.ppddl.model_export``)."""
+def to_ppddl(model: Model, *, keep_derived: bool = False) -> tuple[str, str]:
+    """PPDDL (domain, problem) text (see ``stampc.backends.ppddl.model_export``);
+    derived predicates are compiled away unless ``keep_derived``."""
     from stampc.backends.ppddl.model_export import model_to_ppddl
-    return model_to_ppddl(model)
+    return model_to_ppddl(model, keep_derived=keep_derived)
 
 
 def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", options=None,

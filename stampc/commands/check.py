@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
             continue
         sources.append(source_from_text(text, shown, Path(name)))
     try:
-        programs = analyze(sources) if sources else []
+        programs = analyze(sources, bindings=True) if sources else []
     except StampcError as exc:  # defensive: the analysis reports problems as diagnostics
         programs = []
         diags = list(exc.diagnostics)

@@ -21,6 +21,9 @@ HELP = "compile .stamp (or import .pddl) to the versioned JSON IR or to PPDDL"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_input_arguments(parser)
     parser.add_argument("--target", choices=("ir", "ppddl"), default="ir")
+    parser.add_argument("--keep-derived", action="store_true",
+                        help="for --target ppddl: write derived predicates as (:derived ...) "
+                             "instead of compiling them away")
     parser.add_argument("--level", choices=("lifted", "grounded", "both"), default="both",
                         help="for --target ir: which IR level(s) to write (default both)")
     parser.add_argument("-o", "--output", metavar="DIR",
@@ -40,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
         # name -> writer; IR documents are streamed (a grounded one can be large)
         outputs: dict[str, Callable[[TextIO], None]] = {}
         if args.target == "ppddl":
-            domain_text, problem_text = api.to_ppddl(model)
+            domain_text, problem_text = api.to_ppddl(model, keep_derived=args.keep_derived)
             outputs["domain.pddl"] = _text(domain_text)
             outputs["problem.pddl"] = _text(problem_text)
         else:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from stampc.ir import lifted as L
 from stampc.gcpause import no_gc_pauses
+from stampc.ir.derived import compile_derived
 from stampc.ir.ground_checks import ADD_WINS, DELETE_WINS, check_rule, effect_conflicts, \
     grounding_warnings
 from stampc.ir.ground_context import AtomKey, GroundingContext
@@ -49,6 +50,7 @@ def ground(model: L.Model, *, max_symbol_depth: int = DEFAULT_MAX_SYMBOL_DEPTH,
 
 def _ground(model: L.Model, max_symbol_depth: int, max_actions: int,
             conflicting_effects: str) -> GroundModel:
+    model = compile_derived(model)  # derived and symmetric predicates: docs/ir.md
     validate_model(model)
     ctx = GroundingContext(model)
     reach = explore(ctx, max_symbol_depth, max_actions)

@@ -53,8 +53,11 @@ def domain_to(d: L.Domain, trees: TreeEncoder) -> J:
         "constants": [_object_to(o) for o in d.constants],
         "predicates": [_with_span({"name": p.name, "params": params_to(p.params),
                                    "static": p.static, "unknowable": p.unknowable,
-                                   "optimistic": p.optimistic}, p.span)
+                                   "optimistic": p.optimistic, "symmetric": p.symmetric,
+                                   "derived": p.derived}, p.span)
                        for p in d.predicates],
+        "axioms": [_with_span({"predicate": a.predicate, "params": params_to(a.params),
+                               "body": trees.encode(a.body)}, a.span) for a in d.axioms],
         "functions": [_with_span({"name": f.name, "params": params_to(f.params)}, f.span)
                       for f in d.functions],
         "actions": [action_to(a, trees) for a in d.actions],
@@ -74,7 +77,8 @@ def domain_from(x: J, trees: TreeDecoder) -> L.Domain:
                                      bool(p.get("static", False)),
                                      bool(p.get("unknowable", False)),
                                      bool(p.get("optimistic", False)),
-                                     span_from(p.get("span"))) for p in x["predicates"]),
+                                     span_from(p.get("span")), bool(p.get("symmetric", False)),
+                                     bool(p.get("derived", False))) for p in x["predicates"]),
         functions=tuple(L.Function(str(f["name"]), params_from(f["params"]),
                                    span_from(f.get("span"))) for f in x["functions"]),
         actions=tuple(action_from(a, trees) for a in x["actions"]),
@@ -83,7 +87,10 @@ def domain_from(x: J, trees: TreeDecoder) -> L.Domain:
                                      span_from(e.get("span")))
                          for e in x.get("evaluators", ())),
         requirements=tuple(str(r) for r in x.get("requirements", ())),
-        span=span_from(x.get("span")))
+        span=span_from(x.get("span")),
+        axioms=tuple(L.Axiom(str(a["predicate"]), params_from(a["params"]),
+                             trees.formula(a["body"]), span_from(a.get("span")))
+                     for a in x.get("axioms", ())))
 
 
 def problem_to(p: L.Problem, trees: TreeEncoder) -> J:

@@ -22,7 +22,7 @@ from typing import Union
 
 from stampc.diagnostics import Span
 
-IR_VERSION = "2.0"
+IR_VERSION = "2.1"
 
 
 # ------------------------------------------------------------------ terms
@@ -212,6 +212,11 @@ class Predicate:
     unknowable: bool = False
     optimistic: bool = False
     span: Span | None = field(default=None, compare=False)
+    #: p(a, b) holds iff p(b, a) (two parameters of one type): init facts and effects are
+    #: mirrored by :func:`stampc.ir.derived.compile_derived`
+    symmetric: bool = False
+    #: defined by axioms (``Domain.axioms``), never set by effects
+    derived: bool = False
 
 
 @dataclass(frozen=True)
@@ -283,6 +288,17 @@ class Action:
 
 
 @dataclass(frozen=True)
+class Axiom:
+    """A derived predicate's rule: ``predicate(params)`` holds when ``body`` does (PDDL
+    ``:derived``; several rules for one predicate mean "any of them")."""
+
+    predicate: str
+    params: tuple[Param, ...]
+    body: Formula
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
 class Domain:
     name: str
     types: tuple[Type, ...]
@@ -295,6 +311,8 @@ class Domain:
     #: PPDDL requirement flags seen on import (informational; the emitter recomputes).
     requirements: tuple[str, ...] = ()
     span: Span | None = field(default=None, compare=False)
+    #: rules of derived predicates (compiled away before grounding: docs/ir.md)
+    axioms: tuple[Axiom, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -76,8 +76,12 @@ def _domain(loaded: LoadedProgram, goal: ast.Formula | None) -> ir.Domain:
                       for c in info.constants.values())
     predicates = tuple(
         ir.Predicate(p.name.name, _params(p.params), p.static, p.name.name in facts.effects.unknown,
-                     optimistic.get(p.name.name, False), p.name.span)
+                     optimistic.get(p.name.name, False), p.name.span, p.symmetric,
+                     p.derived is not None)
         for p in info.predicates.values())
+    axioms = tuple(ir.Axiom(p.name.name, _params(p.params),
+                            _formula(p.derived, frozenset(x.name.name for x in p.params)), p.name.span)
+                   for p in info.predicates.values() if p.derived is not None)
     functions = tuple(ir.Function(f.name.name, _params(f.params), f.name.span)
                       for f in info.functions.values())
     generators = tuple(_generator(g) for g in info.generators.values())
@@ -85,7 +89,7 @@ def _domain(loaded: LoadedProgram, goal: ast.Formula | None) -> ir.Domain:
                        for e in info.evaluators)
     actions = tuple(_action(a, loaded) for a in info.actions)
     return ir.Domain(info.name, types, constants, predicates, functions, actions,
-                     generators, evaluators, (), info.span)
+                     generators, evaluators, (), info.span, axioms)
 
 
 def _params(params: tuple[ast.Param, ...]) -> tuple[ir.Param, ...]:

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Mapping, Sequence, Union
 
 from stampc.diagnostics import Diagnostic, Span, StampcError, has_errors, sort_key
+from stampc.semantics.bindings import check_bindings
 from stampc.semantics.check_domain import check_domain
 from stampc.semantics.check_problem import ProblemInfo, build_problem, check_problem, check_problem_domain
 from stampc.semantics.codes import diag
@@ -23,7 +24,8 @@ from stampc.syntax import ast
 from stampc.syntax.parser import no_gc_pauses, parse_source
 
 PathOrText = Union[str, Path]
-PARTIAL_AST = frozenset({"E001", "E006"})  # syntax errors and over-deep nesting drop declarations
+# syntax errors, over-deep nesting and misplaced index variables drop declarations
+PARTIAL_AST = frozenset({"E001", "E006", "E007", "E008"})
 
 
 @dataclass(frozen=True)
@@ -82,7 +84,7 @@ def check(*paths_or_texts: PathOrText) -> list[Diagnostic]:
     texts together: a problem is checked against a domain given alongside it."""
     sources = [_as_source(x) for x in paths_or_texts]
     diags: list[Diagnostic] = []
-    for loaded in analyze(sources):
+    for loaded in analyze(sources, bindings=True):
         diags.extend(loaded.diagnostics)
     return unique_sorted(diags)
 
@@ -111,13 +113,14 @@ def unique_sorted(diags: Sequence[Diagnostic]) -> list[Diagnostic]:
     return out
 
 
-def analyze(sources: list[Source]) -> list[LoadedProgram]:
-    """Group sources (domains with the problems for them) and check every group."""
+def analyze(sources: list[Source], bindings: bool = False) -> list[LoadedProgram]:
+    """Group sources (domains with the problems for them) and check every group;
+    ``bindings``: also read the bound Python functions' signatures (``check`` does)."""
     with no_gc_pauses():
-        return _analyze(sources)
+        return _analyze(sources, bindings)
 
 
-def _analyze(sources: list[Source]) -> list[LoadedProgram]:
+def _analyze(sources: list[Source], bindings: bool) -> list[LoadedProgram]:
     resolver = Resolver()
     diags: list[Diagnostic] = []
     split = [(s, split_sections(s, diags)) for s in sources]
@@ -139,10 +142,10 @@ def _analyze(sources: list[Source]) -> list[LoadedProgram]:
                 continue
             dom_source, dom_sec = found, split_sections(found, diags)
         paired.add(dom_source.name)
-        results.append(_check_group(resolver, dom_source, dom_sec, s, sec, sources))
+        results.append(_check_group(resolver, dom_source, dom_sec, s, sec, sources, bindings))
     for s, sec in split:
         if sec.problem is None and s.name not in paired:
-            results.append(_check_group(resolver, s, sec, None, None, sources))
+            results.append(_check_group(resolver, s, sec, None, None, sources, bindings))
     if diags and results:
         first = results[0]
         results[0] = LoadedProgram(first.domain, first.problem, first.productions,
@@ -155,7 +158,7 @@ def _failed(s: Source, diags: list[Diagnostic]) -> LoadedProgram:
 
 
 def _check_group(resolver: Resolver, dom_source: Source, dom_sec, prob_source: Source | None,
-                 prob_sec, inputs: list[Source]) -> LoadedProgram:
+                 prob_sec, inputs: list[Source], bindings: bool = False) -> LoadedProgram:
     diags: list[Diagnostic] = list(dom_source.diagnostics)
     before = len(resolver.diagnostics)
     dsrc = resolver.domain(dom_source, dom_sec)
@@ -174,6 +177,8 @@ def _check_group(resolver: Resolver, dom_source: Source, dom_sec, prob_source: S
         if problem is not None:
             lint_problem(problem, info, diags)
         lint_domain(info, productions, problem, diags)
+        if bindings:
+            check_bindings(info, diags)
     texts = {s.name: s.text for s in inputs}
     texts.update({s.name: s.text for s in resolver.sources.values()})
     texts[dom_source.name] = dom_source.text

@@ -9,6 +9,7 @@ from fractions import Fraction
 from stampc.diagnostics import Diagnostic, Label
 from stampc.semantics.analysis import domain_facts
 from stampc.semantics.codes import diag
+from stampc.semantics.derived import check_derived, effect_on_derived
 from stampc.semantics.generators import Production, infer
 from stampc.semantics.scope import DomainInfo, suggest
 from stampc.semantics.terms import (Ctx, check_args, check_atom, check_formula, check_numexpr,
@@ -34,8 +35,12 @@ def check_domain(info: DomainInfo, diags: list[Diagnostic]) -> dict[str, Product
         if c.type not in info.types:
             diags.append(diag("E101", f"undefined type `{c.type}`", c.ident.span,
                               suggest(c.type, info.types)))
-    for decl in list(info.predicates.values()) + list(info.functions.values()):
+    for decl in info.functions.values():
         check_params(decl.params, base)
+    for decl in info.predicates.values():
+        if decl.derived is None:
+            check_params(decl.params, base)
+    check_derived(info, base)
     for gen in info.generators.values():
         _check_generator(gen, base)
     for ev in info.evaluators:
@@ -69,7 +74,9 @@ def _check_generator(gen: ast.GeneratorDecl, base: Ctx) -> None:
                               "generators produce values of `continuous type`s (poses, grasps, ...)"))
     names = {p.name.name for p in gen.outputs}
     for atom in gen.certifies:
-        check_atom(atom, env, base)
+        decl = check_atom(atom, env, base)
+        if decl is not None and decl.derived is not None:
+            diags.append(effect_on_derived(decl, atom, "generator certifies"))
         names -= {a.name for a in atom.args}
     for missing in names:
         out = next(p for p in gen.outputs if p.name.name == missing)
@@ -129,13 +136,17 @@ def _check_sample(s: ast.Sample, env: dict[str, str], ctx: Ctx) -> None:
 def check_effect(e: ast.Effect, env: dict[str, str], ctx: Ctx) -> None:
     if isinstance(e, ast.Lit):
         decl = check_atom(e.atom, env, ctx)
-        if decl is not None and decl.static:
+        if decl is not None and decl.derived is not None:
+            ctx.diags.append(effect_on_derived(decl, e.atom, "effect on"))
+        elif decl is not None and decl.static:
             ctx.diags.append(diag("E304", f"effect on static predicate `{decl.name.name}`", e.atom.predicate.span,
                                   "static facts never change; drop `static` from its declaration if actions "
                                   "change it", (Label(decl.name.span, "declared static here"),)))
     elif isinstance(e, ast.Unknown):
         decl = check_atom(e.atom, env, ctx)
-        if decl is not None and decl.static:
+        if decl is not None and decl.derived is not None:
+            ctx.diags.append(effect_on_derived(decl, e.atom, "`?` on"))
+        elif decl is not None and decl.static:
             ctx.diags.append(diag("E303", f"`?` on static predicate `{decl.name.name}`", e.atom.predicate.span,
                                   "a static fact cannot become unknown; drop `static` or the `?`",
                                   (Label(decl.name.span, "declared static here"),)))

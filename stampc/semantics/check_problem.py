@@ -9,6 +9,7 @@ from typing import Mapping
 from stampc.diagnostics import Diagnostic, Label, Span
 from stampc.semantics.check_domain import BINDING, BINDING_HINT
 from stampc.semantics.codes import diag
+from stampc.semantics.comprehensions import expand_forall, expand_grid
 from stampc.semantics.loader import ProblemSource
 from stampc.semantics.scope import DomainInfo, Symbol, duplicate, suggest, undefined_type
 from stampc.semantics.terms import Ctx, check_args, check_atom, check_formula
@@ -50,12 +51,16 @@ def build_problem(src: ProblemSource, info: DomainInfo, diags: list[Diagnostic])
     goals: list[ast.Formula] = []
     horizon: int | None = None
     scene: ast.SceneDecl | None = None
+    comprehensions: list[ast.InitForall] = []
     for d in src.decls:
         if isinstance(d, ast.ObjectDecl):
             _declare_objects(d, info, objects, diags)
         elif isinstance(d, ast.InitDecl):
             for f in d.facts:
-                (values if isinstance(f, ast.InitValue) else init).append(f)
+                if isinstance(f, ast.InitForall):
+                    comprehensions.append(f)  # expanded once every object is declared
+                else:
+                    (values if isinstance(f, ast.InitValue) else init).append(f)
         elif isinstance(d, ast.GoalDecl):
             goals.append(d.formula)
         elif isinstance(d, ast.HorizonDecl):
@@ -68,6 +73,8 @@ def build_problem(src: ProblemSource, info: DomainInfo, diags: list[Diagnostic])
             if scene is not None:
                 diags.append(duplicate("scene", ast.Ident("scene", d.span), scene.span))
             scene = d
+    for f in comprehensions:
+        init.extend(expand_forall(f, lambda n: n in objects or n in info.constants, diags))
     goal = None
     if goals:
         goal = goals[0] if len(goals) == 1 else ast.And(tuple(goals), goals[0].span)
@@ -88,6 +95,8 @@ def _declare_objects(d: ast.ObjectDecl, info: DomainInfo, objects: dict[str, Sym
                                   item.span, "a range is PREFIX<i>..PREFIX<j> with the same prefix and i <= j"))
                 continue
             idents = [ast.Ident(n, item.span) for n in names]
+        elif isinstance(item, ast.ObjectGrid):
+            idents = expand_grid(item, diags)
         else:
             idents = [item]
         for ident in idents:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from stampc.diagnostics import Diagnostic
-from stampc.semantics.analysis import domain_facts, formula_reads
+from stampc.semantics.analysis import definitions, domain_facts, formula_reads
 from stampc.semantics.check_problem import ProblemInfo
 from stampc.semantics.codes import diag
 from stampc.semantics.generators import Production
@@ -21,7 +21,7 @@ def lint_domain(info: DomainInfo, productions: dict[str, Production], problem: P
     used_preds = set(facts.pre_reads) | facts.effects.adds | facts.effects.deletes | set(facts.effects.unknown)
     used_preds |= {a.predicate.name for g in info.generators.values() for a in g.certifies}
     goal_reads: dict[str, set[bool]] = {}
-    formula_reads(goal, goal_reads)
+    formula_reads(goal, goal_reads, True, definitions(info))
     used_preds |= set(goal_reads)
     for name, decl in info.predicates.items():
         if name not in used_preds and info.is_local(decl.name.span):
@@ -82,8 +82,9 @@ def lint_problem(p: ProblemInfo, info: DomainInfo, diags: list[Diagnostic]) -> N
     init = {(a.predicate.name, tuple(x.name for x in a.args)) for a in p.init}
     parts = p.goal.args if isinstance(p.goal, ast.And) else (p.goal,)
     for atom in parts:
-        if not isinstance(atom, ast.Atom) or atom.predicate.name not in info.predicates:
-            continue
+        if not isinstance(atom, ast.Atom) or atom.predicate.name not in info.predicates \
+                or info.predicates[atom.predicate.name].derived is not None:
+            continue  # a derived goal holds when its definition does
         key = (atom.predicate.name, tuple(x.name for x in atom.args))
         if atom.predicate.name not in producible and key not in init:
             text = f"{atom.predicate.name}({', '.join(key[1])})" if key[1] else atom.predicate.name

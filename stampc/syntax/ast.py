@@ -12,12 +12,11 @@ from fractions import Fraction
 from typing import Union
 
 from stampc.diagnostics import Span
+from stampc.syntax.indexed import (IndexCond, IndexedAtom, IndexedName, IndexExpr, IndexNum,  # noqa: F401
+                                   IndexOp, IndexRange, IndexVar, InitForall, NOWHERE, ObjectGrid,
+                                   span_field)
 
-NOWHERE = Span("<none>", 1, 1, 1, 1)
-
-
-def _span() -> Span:
-    return field(default=NOWHERE, compare=False, repr=False)
+_span = span_field
 
 
 @dataclass(frozen=True, slots=True)
@@ -223,10 +222,15 @@ class ConstantDecl:
 
 @dataclass(frozen=True, slots=True)
 class PredicateDecl:
+    """A predicate; ``derived`` holds the definition of a derived one
+    (``derived predicate p(x: t) := formula``), whose value is never set by effects."""
+
     name: Ident
     params: tuple[Param, ...]
     static: bool = False
     span: Span = _span()
+    symmetric: bool = False
+    derived: "Formula | None" = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -295,7 +299,7 @@ class ObjectRange:
 
 @dataclass(frozen=True, slots=True)
 class ObjectDecl:
-    items: tuple[Ident | ObjectRange, ...]
+    items: tuple[Ident | ObjectRange | ObjectGrid, ...]
     type: Ident
     span: Span = _span()
 
@@ -309,7 +313,7 @@ class InitValue:
 
 @dataclass(frozen=True, slots=True)
 class InitDecl:
-    facts: tuple[Atom | InitValue, ...]
+    facts: tuple[Atom | InitValue | InitForall, ...]
     span: Span = _span()
 
 

@@ -7,6 +7,7 @@ from fractions import Fraction
 
 from stampc.diagnostics import Span
 from stampc.syntax import ast
+from stampc.syntax.build_index import IndexBuilder
 from stampc.syntax.spans import (Args, Clause, conj, fast_constructor, flat, is_token, make_span, merge,
                                  seq, span_of)
 
@@ -25,13 +26,14 @@ def _fraction(text: str) -> Fraction:
     return Fraction(text)
 
 
-class Builder:
+class Builder(IndexBuilder):
     """Rule callbacks building AST nodes; tokens are tuples from :mod:`stampc.syntax.layout`.
 
     ``callback(rule)`` is the method called with a rule's (filtered) children as arguments.
     """
 
     def __init__(self, file: str):
+        super().__init__()
         self.file = file
 
     def callback(self, name: str):
@@ -83,8 +85,15 @@ class Builder:
 
     def predicate_decl(self, *children):
         static = is_token(children[0], "STATIC")
-        name, params = children[1:] if static else children
-        return ast.PredicateDecl(self.ident(name), tuple(params or ()), static, self.tspan(name))
+        rest = children[1:] if static else children
+        symmetric = is_token(rest[0], "SYMMETRIC")
+        name, params = rest[1:] if symmetric else rest
+        return ast.PredicateDecl(self.ident(name), tuple(params or ()), static, self.tspan(name),
+                                 symmetric)
+
+    def derived_decl(self, _kw, name, params, _define, body):
+        return ast.PredicateDecl(self.ident(name), tuple(params or ()), False, self.tspan(name),
+                                 derived=body)
 
     def function_decl(self, name, params):
         return ast.FunctionDecl(self.ident(name), tuple(params or ()), self.tspan(name))
@@ -228,8 +237,8 @@ class Builder:
         """``( a, b )`` → identifiers, with the ``)`` token (where the atom ends)."""
         # tokens are "(" NAME... ")" (the commas are filtered), or "(" None ")" when empty
         ident, file = _Ident, self.file
-        idents = tuple([ident(t[1], make_span(file, t[2], t[3], t[4], t[5]))
-                        for t in tokens[1:-1] if t is not None])
+        idents = tuple([ident(t[1], make_span(file, t[2], t[3], t[4], t[5])) if type(t) is tuple else t
+                        for t in tokens[1:-1] if t is not None and (type(t) is not tuple or t[0] == "NAME")])
         return _Args(idents, tokens[-1])
 
     # -------------------------------------------------------------- effects

@@ -35,6 +35,7 @@ CHILDREN = MappingProxyType({
     ast.Probabilistic: lambda n: tuple(o.effect for o in n.outcomes),
     ast.CostEffect: lambda n: (n.amount,),
     ast.BinOp: lambda n: (n.left, n.right),
+    ast.IndexOp: lambda n: (n.left, n.right),
 })
 
 
@@ -43,7 +44,28 @@ def _roots(decl: ast.Decl) -> tuple:
         return tuple(x for x in (decl.pre, decl.eff, decl.cost) if x is not None)
     if isinstance(decl, ast.GoalDecl):
         return (decl.formula,)
+    if isinstance(decl, ast.PredicateDecl) and decl.derived is not None:
+        return (decl.derived,)
+    if isinstance(decl, ast.InitDecl):  # index expressions of comprehensions
+        return tuple(_index_roots(f) for f in decl.facts if isinstance(f, ast.InitForall))
     return ()
+
+
+def _index_roots(f: ast.InitForall) -> tuple:
+    exprs = [e for r in f.ranges for e in (r.first, r.last)]
+    exprs += [e for c in f.conditions for e in (c.left, c.right)]
+    exprs += [i for a in f.atom.args if isinstance(a, ast.IndexedName) for i in a.indices]
+    return max(exprs, key=_index_depth)
+
+
+def _index_depth(e) -> int:
+    depth, stack = 0, [(e, 1)]
+    while stack:
+        node, level = stack.pop()
+        depth = max(depth, level)
+        if isinstance(node, ast.IndexOp):
+            stack.extend([(node.left, level + 1), (node.right, level + 1)])
+    return depth
 
 
 def too_deep(decl: ast.Decl, limit: int | None = None) -> ast.Formula | ast.Effect | ast.NumExpr | None:

@@ -12,6 +12,7 @@ import bisect
 from fractions import Fraction
 
 from stampc.syntax import ast
+from stampc.syntax.fmt_index import init_forall_text, object_item_text
 
 PREC_IMPLIES, PREC_OR, PREC_AND, PREC_NOT = 0, 1, 2, 3
 CLAUSE = "    "
@@ -190,7 +191,11 @@ def format_decl(d: ast.Decl) -> list[str]:
         return [f"constant {', '.join(n.name for n in d.names)}: {d.type.name}"]
     if isinstance(d, ast.PredicateDecl):
         params = fmt_params(d.params) if d.params else ""
-        return [f"{'static ' if d.static else ''}predicate {d.name.name}{params}"]
+        if d.derived is not None:
+            return _hanging_derived(f"derived predicate {d.name.name}{params} :=",
+                                    [fmt_formula(c) for c in conjuncts(d.derived)])
+        modifiers = ("static " if d.static else "") + ("symmetric " if d.symmetric else "")
+        return [f"{modifiers}predicate {d.name.name}{params}"]
     if isinstance(d, ast.FunctionDecl):
         return [f"function {d.name.name}{fmt_params(d.params) if d.params else ''}"]
     if isinstance(d, ast.GeneratorDecl):
@@ -201,11 +206,11 @@ def format_decl(d: ast.Decl) -> list[str]:
     if isinstance(d, ast.ActionDecl):
         return _action(d)
     if isinstance(d, ast.ObjectDecl):
-        items = [i.name if isinstance(i, ast.Ident) else f"{i.first.name}..{i.last.name}"
-                 for i in d.items]
+        items = [object_item_text(i) for i in d.items]
         return [f"object {', '.join(items)}: {d.type.name}"]
     if isinstance(d, ast.InitDecl):
-        facts = [fmt_atom(f) if isinstance(f, ast.Atom) else
+        facts = [fmt_atom(f) if isinstance(f, ast.Atom) else init_forall_text(f)
+                 if isinstance(f, ast.InitForall) else
                  f"{fmt_atom(f.atom)} = {fmt_number(f.value)}" for f in d.facts]
         if not facts:
             return ["init"]
@@ -220,6 +225,13 @@ def format_decl(d: ast.Decl) -> list[str]:
         return [f"scene {fmt_string(d.target)}"]
     args = ", ".join(f"{a.name.name}={fmt_value(a.value)}" for a in d.args)
     return [f"scene builder {fmt_string(d.target)}({args})"]
+
+
+def _hanging_derived(head: str, parts: list[str]) -> list[str]:
+    """A one-conjunct definition on the header line; several on indented lines."""
+    if len(parts) == 1:
+        return [f"{head} {parts[0]}"]
+    return [head] + [CLAUSE + p for p in parts]
 
 
 def _binding_clauses(certifies, binding, options) -> list[str]:

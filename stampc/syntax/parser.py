@@ -30,6 +30,7 @@ from stampc.diagnostics import Diagnostic, Span, error
 from stampc.grammar_cache import cache_key, cached, file_stamp, lark_version
 from stampc.syntax import ast, layout
 from stampc.syntax.build import Builder
+from stampc.syntax.build_index import BuildError, build_errors
 from stampc.syntax.depth import limit_nesting
 from stampc.syntax.indentation import indentation_error
 from stampc.gcpause import no_gc_pauses
@@ -301,13 +302,17 @@ def expected_at(tokens: list[tuple], index: int, t: Tables) -> frozenset[str]:
 
 def _parse_chunk(text: str, file: str, offset: int) -> list:
     t = tables()
+    builder = Builder(file)
     try:
-        return _drive(tokenize(text, t.lexer, t.pattern, offset), t, Builder(file))
+        decls = _drive(tokenize(text, t.lexer, t.pattern, offset), t, builder)
     except ParseFailure as exc:
         tokens = list(tokenize(text, t.lexer, t.pattern, offset))
         exc.index = tokens.index(exc.token) if exc.token in tokens else len(tokens) - 1
         exc.expected = expected_at(tokens, exc.index, t)
         raise
+    if builder.loose or builder.errors:  # e.g. index variables outside any `init forall`
+        raise BuildError(build_errors(builder))
+    return decls
 
 
 def parse_source(text: str, file: str = "<string>") -> tuple[ast.Program, list[Diagnostic]]:
@@ -323,13 +328,15 @@ def _parse_source(text: str, file: str) -> tuple[ast.Program, list[Diagnostic]]:
     text = text.removeprefix(BOM).replace("\r\n", "\n").replace("\r", "\n")
     try:
         return ast.Program(tuple(_parse_chunk(text, file, 0)), file), []
-    except (ParseFailure, LexError):
+    except (ParseFailure, LexError, BuildError):
         pass
     decls: list = []
     diags: list[Diagnostic] = []
     for offset, chunk in split_chunks(text):
         try:
             decls.extend(_parse_chunk(chunk, file, offset))
+        except BuildError as exc:
+            diags.extend(exc.diagnostics)
         except (ParseFailure, LexError) as exc:
             diags.append(_syntax_diagnostic(exc, chunk, file, offset))
     return ast.Program(tuple(decls), file), diags

@@ -9,7 +9,7 @@ import os
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
-EXAMPLES = ("cluttered_table", "domino", "keva", "aircraft_inspection")
+EXAMPLES = ("cluttered_table", "domino", "keva", "aircraft_inspection", "warehouse", "kitchen")
 
 
 def run_command(module, argv: list[str], cwd: Path = REPO) -> tuple[int, str, str]:

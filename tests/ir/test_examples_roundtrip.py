@@ -21,7 +21,7 @@ from stampc.ir.json_io import (grounded_from_json, grounded_to_json, lifted_from
                                lifted_to_json, read_ir_json)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-NAMES = ["cluttered_table", "domino", "keva", "aircraft_inspection"]
+NAMES = ["cluttered_table", "domino", "keva", "aircraft_inspection", "warehouse", "kitchen"]
 
 
 def compiled(name: str):
@@ -70,7 +70,7 @@ def test_compile_command_streams_ir_files_that_load_back(tmp_path):
     assert read_ir_json(tmp_path / "lifted.json") == model
     grounded = read_ir_json(tmp_path / "grounded.json")
     assert grounded == stampc.ground(model) and grounded.lifted == model
-    assert json.loads((tmp_path / "grounded.json").read_text())["ir_version"] == "2.0"
+    assert json.loads((tmp_path / "grounded.json").read_text())["ir_version"] == "2.1"
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -84,8 +84,13 @@ def test_unexpected_character():
 
 
 def test_unsupported_section():
-    text = DOMAIN.replace("(:action move", "(:derived (clear ?a) (on ?a ?a))\n  (:action move")
-    _check(text + PROBLEM, "P101", ":derived")
+    text = DOMAIN.replace("(:action move", "(:durative-action m)\n  (:action move")
+    _check(text + PROBLEM, "P101", ":durative-action")
+
+
+def test_derived_rule_for_an_undeclared_predicate():
+    text = DOMAIN.replace("(:action move", "(:derived (above ?a) (on ?a ?a))\n  (:action move")
+    _check(text + PROBLEM, "P111", "above")
 
 
 def test_either_type_rejected():

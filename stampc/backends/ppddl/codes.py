@@ -37,7 +37,7 @@ LENIENT_HINT = "--lenient (API: lenient=True) accepts this as mini-gpt does, wit
 #: code -> one-line description, used by the docs table test.
 DESCRIPTIONS = {
     SYNTAX: "syntax error; the message lists the expected tokens in words",
-    UNSUPPORTED: "construct outside the supported dialect (either types, :derived, ...)",
+    UNSUPPORTED: "construct outside the supported dialect (either types, :durative-action, ...)",
     REQUIREMENT: "unknown or unsupported requirement flag",
     DUPLICATE: "name declared twice (type, constant, object, predicate, action, parameter)",
     IO: "file cannot be read",

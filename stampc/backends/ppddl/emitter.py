@@ -25,6 +25,7 @@ import jinja2
 from stampc.backends.ppddl import render
 from stampc.backends.ppddl.mangle import mangle_model
 from stampc.backends.ppddl.requirements import required_flags
+from stampc.ir.derived import compile_derived
 from stampc.ir.grounded import GroundAtom
 from stampc.ir.lifted import (
     TRUE, Action, Atom, Const, CostEffect, EffAnd, Effect, Model, Num, NumExpr, Object,
@@ -43,12 +44,16 @@ def _environment() -> jinja2.Environment:
 
 
 def emit_ppddl(model: Model, *, extra_objects: Iterable[Object | tuple[str, str]] = (),
-               extra_init: Iterable[Atom | GroundAtom] = ()) -> tuple[str, str]:
+               extra_init: Iterable[Atom | GroundAtom] = (),
+               keep_derived: bool = False) -> tuple[str, str]:
     """Emit ``model`` as PPDDL ``(domain text, problem text)``.
 
     ``extra_objects``/``extra_init`` add objects (e.g. Skolem symbols) and true facts
-    (e.g. certified atoms) produced by grounding to the problem.
+    (e.g. certified atoms) produced by grounding to the problem. Derived predicates are
+    compiled away (IPPC PPDDL has none; docs/ir.md) unless ``keep_derived``, which
+    writes them as ``(:derived ...)`` with ``:derived-predicates``.
     """
+    model = compile_derived(model, keep_axioms=keep_derived)
     stamp_origin = not model.domain.requirements
     costed, explicit_costs = _fold_base_costs(model, stamp_origin)
     mangled = mangle_model(costed, tuple(_as_object(o) for o in extra_objects),
@@ -71,6 +76,9 @@ def emit_ppddl(model: Model, *, extra_objects: Iterable[Object | tuple[str, str]
                     for p in m.domain.predicates],
         functions=[render.flat(_declaration(f.name, f.params, typed))
                    for f in m.domain.functions],
+        derived=[(render.flat(_declaration(ax.predicate, ax.params, typed)),
+                  render.text(render.formula(ax.body, typed), indent=4))
+                 for ax in m.domain.axioms],
         actions=[_action_context(a, orig, m, typed)
                  for a, orig in zip(m.domain.actions, model.domain.actions)],
     )

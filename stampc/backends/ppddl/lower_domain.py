@@ -15,7 +15,7 @@ from stampc.backends.ppddl.lower_formula import effect, formula
 from stampc.backends.ppddl.reader import Tok
 from stampc.backends.ppddl.shape_base import Node
 from stampc.ir.lifted import (
-    NO_EFFECT, TRUE, Action, Domain, EffAnd, EffForall, Effect, Function, Object,
+    NO_EFFECT, TRUE, Action, Axiom, Domain, EffAnd, EffForall, Effect, Function, Object,
     Predicate, Probabilistic, Type, Lit, Unknown, When,
 )
 
@@ -25,17 +25,18 @@ KNOWN_REQUIREMENTS = frozenset({
     ":disjunctive-preconditions", ":existential-preconditions",
     ":universal-preconditions", ":quantified-preconditions", ":conditional-effects",
     ":adl", ":probabilistic-effects", ":rewards", ":mdp", ":action-costs",
-    ":fluents", ":numeric-fluents",
+    ":fluents", ":numeric-fluents", ":derived-predicates",
 })
 UNSUPPORTED_REQUIREMENTS = frozenset({
-    ":durative-actions", ":derived-predicates", ":timed-initial-literals",
+    ":durative-actions", ":timed-initial-literals",
     ":preferences", ":constraints", ":duration-inequalities", ":continuous-effects",
     ":non-deterministic", ":partial-observability", ":object-fluents",
 })
 #: What a domain without (:requirements ...) implicitly requires.
 DEFAULT_REQUIREMENTS = (":strips",)
 
-_SECTION_ORDER = ("requirements", "types", "constants", "predicates", "functions", "action")
+_SECTION_ORDER = ("requirements", "types", "constants", "predicates", "functions", "derived",
+                  "action")
 
 
 def lower_domain(cx: Lowering, tree: Node) -> Domain:
@@ -55,7 +56,10 @@ def lower_domain(cx: Lowering, tree: Node) -> Domain:
     for section in by_kind["functions"]:
         _functions(cx, section)
     actions = _actions(cx, by_kind["action"])
-    predicates = _mark_static(tuple(cx.predicates.values()), actions)
+    axioms = tuple(_axiom(cx, node) for node in by_kind["derived"])
+    derived = {a.predicate for a in axioms}
+    predicates = _mark_static(tuple(replace(p, derived=p.name in derived)
+                                    for p in cx.predicates.values()), actions)
     cx.predicates = {p.name: p for p in predicates}
     return Domain(
         name=str(name_tok),
@@ -66,6 +70,7 @@ def lower_domain(cx: Lowering, tree: Node) -> Domain:
         actions=actions,
         requirements=requirements,
         span=cx.span(name_tok),
+        axioms=axioms,
     )
 
 
@@ -197,6 +202,23 @@ def _action(cx: Lowering, node: Node) -> Action:
     return Action(str(name_tok), params, precondition, eff, cost=None, span=cx.span(name_tok))
 
 
+def _axiom(cx: Lowering, node: Node) -> Axiom:
+    """``(:derived (p ?x - t) GD)``: a rule of a declared predicate (P102 otherwise);
+    stratification is checked when the model is grounded (G121)."""
+    decl, body = node.children
+    name_tok, typed = decl.children
+    params = typed_params(cx, typed)
+    pred = cx.predicates.get(str(name_tok))
+    if pred is None:
+        cx.err(codes.UNDEFINED_PREDICATE, f"derived predicate '{name_tok}' is not declared in :predicates",
+               name_tok)
+    elif len(pred.params) != len(params):
+        cx.err(codes.ARITY, f"derived predicate '{name_tok}' takes {len(pred.params)} "
+               f"argument(s), the rule has {len(params)}", name_tok)
+    scope = {p.name: p.type for p in params}
+    return Axiom(str(name_tok), params, formula(cx, body, scope), cx.span(name_tok))
+
+
 def changed_predicates(eff: Effect) -> set[str]:
     """Predicates some literal (or ``?``) effect in ``eff`` mentions."""
     if isinstance(eff, (Lit, Unknown)):
@@ -213,4 +235,4 @@ def changed_predicates(eff: Effect) -> set[str]:
 def _mark_static(predicates: tuple[Predicate, ...],
                  actions: tuple[Action, ...]) -> tuple[Predicate, ...]:
     changed = set().union(*(changed_predicates(a.effect) for a in actions))
-    return tuple(replace(p, static=p.name not in changed) for p in predicates)
+    return tuple(replace(p, static=p.name not in changed and not p.derived) for p in predicates)

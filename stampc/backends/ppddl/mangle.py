@@ -22,7 +22,7 @@ from typing import Iterable
 
 from stampc.backends.ppddl.rename import Renaming, effect_vars, formula_vars
 from stampc.ir.lifted import (
-    Action, Atom, Domain, Evaluator, Generator, GeneratorUse, Model, Object,
+    Action, Atom, Axiom, Domain, Evaluator, Generator, GeneratorUse, Model, Object,
 )
 
 _LEGAL = re.compile(r"[a-z][a-z0-9_-]*\Z")
@@ -116,6 +116,7 @@ def mangle_model(model: Model, extra_objects: Iterable[Object] = (),
         evaluators=tuple(Evaluator(preds(e.predicate), e.binding, e.span) for e in d.evaluators),
         requirements=d.requirements,
         span=d.span,
+        axioms=tuple(_axiom(base, x) for x in d.axioms),
     )
     goal_vars = Renaming(predicate=preds, function=preds, obj=objects, type=types,
                          var=NameTable(formula_vars(p.goal)))
@@ -144,6 +145,12 @@ def _action(base: Renaming, actions: NameTable, a: Action) -> Action:
         generated=tuple(GeneratorUse(g.generator, tuple(r.var(x) for x in g.inputs),
                                      tuple(r.var(x) for x in g.outputs)) for g in a.generated),
     )
+
+
+def _axiom(base: Renaming, a: Axiom) -> Axiom:
+    r = replace(base, var=NameTable([q.name for q in a.params] + formula_vars(a.body)))
+    return replace(a, predicate=base.predicate(a.predicate), params=r.params(a.params),
+                   body=r.formula(a.body))
 
 
 def _generator(base: Renaming, g: Generator) -> Generator:

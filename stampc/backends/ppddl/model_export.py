@@ -8,7 +8,7 @@ from stampc.ir.ground import ground
 from stampc.ir.lifted import Atom, Const, Model, Object
 
 
-def model_to_ppddl(model: Model) -> tuple[str, str]:
+def model_to_ppddl(model: Model, *, keep_derived: bool = False) -> tuple[str, str]:
     """PPDDL (domain, problem) text. Generated parameters stay parameters; grounding
     supplies their Skolem symbols and the certified facts that bind them."""
     gm = ground(model)
@@ -23,4 +23,4 @@ def model_to_ppddl(model: Model) -> tuple[str, str]:
     facts += tuple(atom for atom in (Atom(f.predicate, tuple(Const(a) for a in f.args))
                                      for f in gm.state_facts(gm.init) if f.predicate in assumed)
                    if atom not in initial)
-    return emit_ppddl(model, extra_objects=symbols, extra_init=facts)
+    return emit_ppddl(model, extra_objects=symbols, extra_init=facts, keep_derived=keep_derived)

@@ -12,6 +12,7 @@ ORDER = (
     ":strips", ":typing", ":equality", ":negative-preconditions",
     ":disjunctive-preconditions", ":existential-preconditions", ":universal-preconditions",
     ":conditional-effects", ":probabilistic-effects", ":rewards", ":fluents",
+    ":derived-predicates",
 )
 
 
@@ -64,6 +65,8 @@ def required_flags(model: Model, *, explicit_costs: bool) -> tuple[str, ...]:
     for a in d.actions:
         flags |= formula_flags(a.precondition) | effect_flags(a.effect)
     flags |= formula_flags(p.goal)
+    for ax in d.axioms:
+        flags |= formula_flags(ax.body) | {":derived-predicates"}
     if explicit_costs or p.goal_reward is not None or p.metric is not None:
         flags.add(":rewards")
     if d.functions:

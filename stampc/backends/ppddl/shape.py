@@ -7,8 +7,8 @@ from stampc.backends.ppddl.reader import SList, Tok
 from stampc.backends.ppddl.shape_base import Node, head, is_keyword, is_name, is_number
 from stampc.backends.ppddl.shape_formula import FormulaShaper
 
-_DOMAIN_SECTIONS = (":action", ":constants", ":functions", ":predicates", ":requirements",
-                    ":types")
+_DOMAIN_SECTIONS = (":action", ":constants", ":derived", ":functions", ":predicates",
+                    ":requirements", ":types")
 _PROBLEM_SECTIONS = (":domain", ":goal", ":goal-reward", ":horizon", ":init", ":metric",
                      ":objects")
 _ACTION_PARTS = "one of ':effect', ':parameters', ':precondition', ')'"
@@ -54,6 +54,11 @@ class Shaper(FormulaShaper):
             return Node("predicates", [self._decl(d) for d in x.items[1:]], x.start, x.end)
         if word == ":functions":
             return Node("functions", self._functions(x), x.start, x.end)
+        if word == ":derived":  # (:derived (p ?x - t) GD)
+            head_decl = self._decl(self.item(x, 1, "'('"))
+            body = self.gd(self.item(x, 2, "a formula"))
+            self.check_end(x, 3)
+            return Node("derived", [head_decl, body], x.start, x.end)
         return self._action(x)
 
     def _section_word(self, x, words) -> str:

@@ -20,7 +20,6 @@ MAX_NESTING = 100
 
 #: Well-known PDDL constructs outside the supported dialect: reported as P101.
 UNSUPPORTED_WORDS = {
-    ":derived": "derived predicates (:derived)",
     ":durative-action": "durative actions",
     ":constraints": "state-trajectory constraints",
     ":process": "processes",

@@ -1,0 +1,1 @@
+"""Bound functions with the mistakes the E6xx/W407 golden cases show."""

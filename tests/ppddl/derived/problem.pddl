@@ -1,0 +1,5 @@
+(define (problem three) (:domain derived-blocks)
+  (:objects a b c - block)
+  (:init (on a table) (on b a) (on c table) (weighs-more c b) (weighs-more b a))
+  (:goal (and (on a b) (fixed a)))
+)
