@@ -298,7 +298,12 @@ class Engine:
             return self._update(graph, node, failure.violated, "update", path)
         node.attempts += 1
         if self.rng.random() < self.options.explore_probability:
-            return self._update(graph, node, (), "explore")  # replans with a random action
+            # explore (Thm. 2's completeness): either revise an earlier choice — re-sample
+            # a refined ancestor, Alg. 1's backtracking — or replan with a random action
+            ancestor = self._resample_target(graph, path)
+            if ancestor is not None and self.rng.random() < 0.5:
+                return self._resample(graph, ancestor, node)
+            return self._update(graph, node, (), "explore")
         if node.attempts < self.options.max_attempts:
             return "retry", f"{self.model.actions[node.action].label}: no usable sample"
         # nothing to learn and retries exhausted: give the action up here and replan

@@ -133,3 +133,15 @@ def test_a_spent_prg_node_backtracks_instead_of_ending_the_run():
         assert engine.result().coverage == pytest.approx(1.0, abs=1e-9)
     finally:
         world.close()
+
+
+def test_explore_may_pick_an_ancestor_resample_as_well_as_a_random_action():
+    """With explore always on, failures at the second store are answered both ways the
+    explore step has: re-sampling a refined ancestor (Alg. 1's backtracking) and a
+    replan that forces a random action. Seeded: the same seed gives the same choices."""
+    kinds = []
+    for _ in range(2):
+        engine, events = run(explore_probability=1.0, max_attempts=10, time_limit=20)
+        kinds.append([e.kind for e in events])
+    assert kinds[0] == kinds[1]
+    assert "resample" in kinds[0] and "explore" in kinds[0]
