@@ -92,12 +92,16 @@ def instances(args) -> list[tuple[str, list[Path], str, int]]:
         return out
     ex = ROOT / "examples" / "cluttered_table"
     from examples.cluttered_table.scene import write_problem
+    # --fixed: the fixed-base scene with its arranged blockers (domain_fixed.stamp), where
+    # obstructions are learned on every seed; default: the paper's random scene
+    world, domain = (("pybullet-fixed", "domain_fixed.stamp") if args.fixed
+                     else ("pybullet", "domain.stamp"))
     for seed in args.cluttered_seeds:
-        p = write_problem(tmp / f"c{args.n}_{seed}.stamp", args.n, seed, "mid")
-        out.append((f"cluttered-{args.n} s{seed}", [ex / "domain.stamp", p], "pybullet", seed))
+        p = write_problem(tmp / f"c{args.n}_{seed}.stamp", args.n, seed, "mid", world=world)
+        out.append((f"cluttered-{args.n} s{seed}", [ex / domain, p], "pybullet", seed))
     if args.keva:
         from examples.keva.scene import write_problem as keva_problem
-        for structure, levels in (("pi", 3), ("tower", 12)):
+        for structure, levels in args.keva_structures:
             p = keva_problem(tmp / f"keva_{structure}{levels}.stamp", structure=structure,
                              levels=levels, seed=0)
             out.append((f"keva-{structure}-{levels}", [ROOT / "examples" / "keva" / "domain.stamp", p],
@@ -111,6 +115,11 @@ def main() -> int:
     parser.add_argument("--cluttered-seeds", type=int, nargs="*", default=[0, 1, 2, 3, 4, 5])
     parser.add_argument("--keva", action=argparse.BooleanOptionalAction, default=True)
     parser.add_argument("--plane2d", action="store_true")
+    parser.add_argument("--fixed", action="store_true",
+                        help="the cluttered table's fixed-base scene with arranged blockers")
+    parser.add_argument("--keva-structures", type=lambda v: (v.split(":")[0], int(v.split(":")[1])),
+                        nargs="*", default=[("pi", 3), ("tower", 12)], metavar="STRUCTURE:LEVELS",
+                        help="Keva instances (seed 0), e.g. pi:3 twisted:12 3towers:4")
     parser.add_argument("--time-limit", type=float, default=300.0, help="per engine run")
     parser.add_argument("--cap", type=float, default=60.0, help="per timed re-solve")
     args = parser.parse_args()
