@@ -95,22 +95,29 @@ def test_select_path_prefers_probability_over_cost():
     assert path == (0, 1, 3)
 
 
+def random_tree(rng, max_uid: int, refined_share: float) -> dict[int, tuple]:
+    """A random policy tree spec for :func:`build`: 1–3 children per action, random
+    outcome weights, leaves of every kind, about ``refined_share`` of the actions refined."""
+    spec, frontier, uid = {}, [0], 1
+    while frontier:
+        u = frontier.pop()
+        if uid > max_uid or rng.random() < 0.3:
+            spec[u] = ("leaf", rng.choice([GOAL, DEAD_END, HORIZON]))
+            continue
+        k = rng.randint(1, 3)
+        ws = [rng.random() + 0.01 for _ in range(k)]
+        spec[u] = ("act", rng.random() < refined_share,
+                   [(w / sum(ws), uid + i) for i, w in enumerate(ws)])
+        frontier.extend(uid + i for i in range(k))
+        uid += k
+    return spec
+
+
 def test_select_path_matches_brute_force_ratio_order():
     import random
     rng = random.Random(7)
     for _ in range(50):
-        spec, frontier, uid = {}, [0], 1
-        while frontier:
-            u = frontier.pop()
-            if uid > 25 or rng.random() < 0.3:
-                spec[u] = ("leaf", rng.choice([GOAL, DEAD_END, HORIZON]))
-                continue
-            k = rng.randint(1, 3)
-            ws = [rng.random() + 0.01 for _ in range(k)]
-            kids = [(w / sum(ws), uid + i) for i, w in enumerate(ws)]
-            spec[u] = ("act", rng.random() < 0.5, kids)
-            frontier.extend(uid + i for i in range(k))
-            uid += k
+        spec = random_tree(rng, 25, 0.5)
         g = build(spec)
         cost = {n: rng.randint(1, 9) for n in spec}
 
@@ -173,17 +180,7 @@ def test_count_covered_paths_matches_enumeration_and_scales():
     import random
     rng = random.Random(3)
     for _ in range(40):
-        spec, frontier, uid = {}, [0], 1
-        while frontier:
-            u = frontier.pop()
-            if uid > 20 or rng.random() < 0.3:
-                spec[u] = ("leaf", rng.choice([GOAL, DEAD_END, HORIZON]))
-                continue
-            k = rng.randint(1, 3)
-            spec[u] = ("act", rng.random() < 0.7, [(1.0 / k, uid + i) for i in range(k)])
-            frontier.extend(uid + i for i in range(k))
-            uid += k
-        g = build(spec)
+        g = build(random_tree(rng, 20, 0.7))
         expected = sum(1 for _, p in iter_leaf_paths(g) if path_is_covered(g, p))
         assert count_covered_paths(g) == expected
     # the merging ladder of 40 two-way branches: 2^40 covered paths, counted at once
