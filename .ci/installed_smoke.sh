@@ -23,7 +23,7 @@ if [[ "${STAMPC_SMOKE_SYSTEM_SITE:-0}" == 1 ]]; then
     "$WORK/venv/bin/python" -m pip install --quiet --ignore-installed --no-deps "$WHEEL"
 else
     "$PYTHON" -m venv "$WORK/venv"
-    "$WORK/venv/bin/python" -m pip install --quiet "$WHEEL"
+    "$WORK/venv/bin/python" -m pip install --quiet "$WHEEL[view,lsp]"
 fi
 STAMPC="$WORK/venv/bin/stampc"
 INSTALLED="$(cd "$WORK" && "$WORK/venv/bin/python" -c 'import stampc; print(stampc.__file__)')"
@@ -70,6 +70,8 @@ expect 0 "$CLONE" "$STAMPC" refine examples/cluttered_table/domain_fixed.stamp e
 expect 0 "$CLONE" "$STAMPC" refine examples/cluttered_table/domain.stamp examples/cluttered_table/problem.stamp \
        --world pybullet --time-limit 120 -o out/
 expect 0 "$CLONE" "$STAMPC" execute out/policy.json --runs 50 --seed 1 --render out/frames
+expect 0 "$CLONE" "$STAMPC" view out/
+[[ -s "$CLONE/out/report.html" ]] || { echo "FAIL: stampc view wrote no out/report.html" >&2; exit 1; }
 expect 0 "$WORK/elsewhere" "$STAMPC" execute "$CLONE/out2d/policy.json" --runs 5
 expect 0 "$WORK/elsewhere" "$STAMPC" refine "$EX/domino/domain.stamp" "$EX/domino/problem.stamp" \
        --world pybullet --time-limit 60 -o "$WORK/elsewhere/out"

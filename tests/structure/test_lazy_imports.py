@@ -16,7 +16,8 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
-HEAVY = {"pybullet", "ompl", "matplotlib", "networkx", "jinja2", "numpy", "rich", "imageio"}
+HEAVY = {"pybullet", "ompl", "matplotlib", "networkx", "jinja2", "numpy", "rich", "imageio",
+         "pygls", "lsprotocol", "pyvis", "selenium", "cattrs"}
 DOMINO = [str(REPO / "examples" / "domino" / f) for f in ("domain.stamp", "problem.stamp")]
 
 PROBE = """
