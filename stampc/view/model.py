@@ -1,8 +1,8 @@
 """The report's data: a compact JSON of the policy graph for the page's script.
 
-Facts are interned (each node lists indices into one table) and concrete values are
-summarised (a trajectory becomes its waypoint count, ends and length), so a policy of
-thousands of nodes stays a few MB. The page lays the graph out with vis-network's
+Facts, effect lists and ground actions are interned, states are stored as differences
+from a parent's, and concrete values are summarised (a trajectory becomes its waypoint
+count, ends and length), so a policy of ten thousand nodes stays a few MB. The page lays the graph out with vis-network's
 hierarchical layout, one level per policy depth.
 """
 
@@ -10,25 +10,27 @@ from __future__ import annotations
 
 import json
 import math
+from collections import deque
 from typing import Any, Mapping
 
 
 
-class FactTable:
-    """Interned fact strings: the index of each distinct fact, in first-seen order."""
+class Interner:
+    """Distinct values in first-seen order: each stored once, referred to by index."""
 
     def __init__(self) -> None:
-        self.index: dict[str, int] = {}
+        self.index: dict[Any, int] = {}
 
-    def ids(self, facts) -> list[int]:
-        return [self.index.setdefault(f, len(self.index)) for f in facts]
-
-    def literal_ids(self, literals) -> list[int]:
-        return self.ids(f"{lit['predicate']}({', '.join(lit['args'])})" for lit in literals)
+    def id(self, value: Any) -> int:
+        return self.index.setdefault(value, len(self.index))
 
     @property
-    def table(self) -> list[str]:
-        return list(self.index)
+    def table(self) -> list:
+        return [list(v) if isinstance(v, tuple) else v for v in self.index]
+
+
+def _literal(lit: Mapping[str, Any]) -> str:
+    return f"{lit['predicate']}({', '.join(lit['args'])})"
 
 
 def status(node: Mapping[str, Any]) -> str:
@@ -42,27 +44,63 @@ def status(node: Mapping[str, Any]) -> str:
 
 
 def page_data(policy: Mapping[str, Any]) -> dict[str, Any]:
-    """Nodes (with positions, status, state, values, outcomes) and the fact table."""
-    facts = FactTable()
-    nodes = []
-    for node in policy["nodes"]:
-        entry = {
-            "id": node["id"], "depth": node.get("depth", 0), "status": status(node),
-            "label": node.get("action_name") or node.get("leaf") or "?",
-            "action": node.get("action"),
-            "state": facts.ids(node.get("state", [])),
-            "learned": [{"fact": f.get("fact"), "value": f.get("value")}
-                        for f in node.get("learned", [])],
-            "values": {k: summarise(v) for k, v in (node.get("sigma") or {}).items()},
-            "outcomes": [{"p": o.get("probability"), "child": o.get("child"),
-                          "name": o.get("name", ""), "adds": facts.literal_ids(o.get("adds", [])),
-                          "deletes": facts.literal_ids(o.get("deletes", []))}
-                         for o in node.get("outcomes", [])],
-        }
+    """The policy for the page, compactly: short keys, empty fields left out, facts,
+    effect lists and ground actions interned, and each state stored as its difference
+    from the state of the node's breadth-first parent (``sb``: parent, ``sa``/``sd``:
+    facts added/removed; ``st``: the whole state, at the root). report.js expands it."""
+    facts, effects, actions = Interner(), Interner(), Interner()
+    nodes = policy["nodes"]
+    states = {n["id"]: {facts.id(f) for f in n.get("state", [])} for n in nodes}
+    parent = _tree_parents(policy)
+    out = []
+    for node in nodes:
+        uid = node["id"]
+        entry: dict[str, Any] = {"id": uid, "d": node.get("depth", 0), "s": status(node)}
+        if node.get("action") is not None:
+            entry["a"] = actions.id((node["action"], node.get("action_name") or "?"))
+        up = parent.get(uid)
+        if up is None:
+            entry["st"] = sorted(states[uid])
+        else:
+            entry["sb"] = up
+            entry["sa"] = sorted(states[uid] - states[up])
+            entry["sd"] = sorted(states[up] - states[uid])
+        if node.get("learned"):
+            entry["l"] = [[f.get("fact"), f.get("value")] for f in node["learned"]]
+        if node.get("sigma"):
+            entry["v"] = {k: summarise(v) for k, v in node["sigma"].items()}
+        if node.get("outcomes"):
+            entry["o"] = [[_rounded_p(o.get("probability")), o.get("child"), o.get("name", ""),
+                           effects.id(tuple(facts.id(_literal(x)) for x in o.get("adds", []))),
+                           effects.id(tuple(facts.id(_literal(x)) for x in o.get("deletes", [])))]
+                          for o in node["outcomes"]]
         if "goal_facts" in node:
-            entry["goal"] = facts.literal_ids(node["goal_facts"])
-        nodes.append(entry)
-    return {"root": policy["root"], "nodes": nodes, "facts": facts.table}
+            entry["g"] = effects.id(tuple(facts.id(_literal(x)) for x in node["goal_facts"]))
+        out.append(entry)
+    return {"root": policy["root"], "nodes": out, "facts": facts.table,
+            "effects": effects.table, "actions": actions.table}
+
+
+def _rounded_p(p: Any) -> Any:
+    """Six significant digits (the page shows four): 0.2777777777777778 costs 18 bytes
+    in each of thousands of outcomes."""
+    return float(f"{p:.6g}") if isinstance(p, float) else p
+
+
+def _tree_parents(policy: Mapping[str, Any]) -> dict[int, int]:
+    """Each node's parent in the breadth-first tree from the root (acyclic, so the
+    page can rebuild states by walking up; nodes not reached keep whole states)."""
+    children = {n["id"]: [o.get("child") for o in n.get("outcomes", [])] for n in policy["nodes"]}
+    parent: dict[int, int] = {}
+    seen, queue = {policy["root"]}, deque([policy["root"]])
+    while queue:
+        uid = queue.popleft()
+        for child in children.get(uid, []):
+            if child in children and child not in seen:
+                seen.add(child)
+                parent[child] = uid
+                queue.append(child)
+    return parent
 
 
 def summarise(value: Any) -> str:

@@ -16,12 +16,26 @@ from stampc.view.rundir import CoveragePoint
 COLORS = {"goal": "#3a9d5d", "dead end (proven)": "#c0392b", "unrefined": "#d5d8dc"}
 
 
+def changes(points: Sequence[CoveragePoint]) -> list[CoveragePoint]:
+    """The points where the mass split changes, and the last one: a step plot of them
+    is the same picture, and a run has thousands of events."""
+    kept: list[CoveragePoint] = []
+    for p in points:
+        if not kept or (p.coverage, p.goal_probability) != (kept[-1].coverage,
+                                                            kept[-1].goal_probability):
+            kept.append(p)
+    if points and kept[-1] is not points[-1]:
+        kept.append(points[-1])
+    return kept
+
+
 def coverage_svg(points: Sequence[CoveragePoint], title: str = "") -> str:
     """The stacked mass split over time as an ``<svg>`` element (no XML prologue)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    points = changes(points)
     times = [p.time_s for p in points]
     goal = [p.goal_probability for p in points]
     dead = [max(0.0, p.coverage - p.goal_probability) for p in points]

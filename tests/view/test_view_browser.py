@@ -43,6 +43,7 @@ def click_node(chrome, uid: int) -> None:
 
 def check_report(chrome, run: Path, name: str) -> dict:
     from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import WebDriverWait
 
     policy = json.loads((run / "policy.json").read_text())
     report = view_run(run)
@@ -50,8 +51,16 @@ def check_report(chrome, run: Path, name: str) -> dict:
     assert chrome.get_log("browser") == []  # no script error, nothing failed to load
     nodes = len(policy["nodes"])
     assert chrome.execute_script("return stampcReport.network.body.nodeIndices.length") == nodes
-    assert len(chrome.find_elements(By.CSS_SELECTOR, "#node-table tbody tr")) == nodes
+    chrome.find_element(By.CSS_SELECTOR, "#all-nodes summary").click()  # built when opened
+    rows = WebDriverWait(chrome, 10).until(
+        lambda d: d.find_elements(By.CSS_SELECTOR, "#node-table tbody tr"))
+    assert len(rows) == nodes
     assert f"({nodes} nodes" in chrome.find_element(By.ID, "node-count").text
+    # states travel as differences from a parent's: every one is rebuilt exactly
+    rebuilt = chrome.execute_script(
+        "return stampcReport.network.body.nodeIndices.map(id => [id, stampcReport.stateFacts(id)])")
+    assert {uid: sorted(facts) for uid, facts in rebuilt} == \
+        {n["id"]: sorted(n["state"]) for n in policy["nodes"]}
     return policy
 
 
@@ -87,6 +96,11 @@ def test_plane2d_report(chrome, shelf_run):
     from selenium.webdriver.common.by import By
     rows = chrome.find_elements(By.CSS_SELECTOR, "#revisions tr[data-prg]")
     assert len(rows) == len(history["revisions"])
+    # a row of the node table selects its node
+    row = chrome.find_element(By.CSS_SELECTOR, f"#node-table tr[data-node='{policy['root']}']")
+    row.click()
+    assert chrome.find_element(By.ID, "detail").get_attribute("data-node") == str(policy["root"])
+    click_node(chrome, node["id"])
     screenshot(chrome, "shelf2d")
 
 

@@ -41,8 +41,8 @@ def test_report_data_matches_the_run(shelf_run):
     assert data["summary"]["coverage"] == pytest.approx(policy["coverage"])
     assert history["revisions"], "shelf2d learns obstructions: its PRG has revisions"
     assert data["history"]["revisions"] == history["revisions"]
-    refined = next(n for n in data["graph"]["nodes"] if n["values"])
-    assert any(v.startswith("trajectory: ") for v in refined["values"].values())
+    refined = next(n for n in data["graph"]["nodes"] if n.get("v"))
+    assert any(v.startswith("trajectory: ") for v in refined["v"].values())
 
 
 def test_prg_history_names_the_policy_nodes_it_revised(shelf_run):

@@ -1,12 +1,38 @@
 // stampc view: the report's behaviour. Data comes from #report-data (written by
-// stampc/view/page.py); the graph is drawn by vis-network (inlined above) at the
+// stampc/view/page.py); the graph is drawn by vis-network (inlined above) with its
 // hierarchical layout (levels = policy depth).
 "use strict";
 (function () {
   const DATA = JSON.parse(document.getElementById("report-data").textContent);
-  const G = DATA.graph;
-  const FACTS = G.facts;
+  const RAW = DATA.graph;  // compact (stampc/view/model.py): expanded here
+  const FACTS = RAW.facts, EFFECTS = RAW.effects;
+  const rawById = new Map(RAW.nodes.map(r => [r.id, r]));
+  const LEAF_LABEL = {"goal": "goal", "dead-end-proven": "dead end", "dead-end": "dead end?", "horizon": "horizon"};
+  const G = {root: RAW.root, nodes: RAW.nodes.map(r => ({
+    id: r.id, depth: r.d, status: r.s,
+    action: r.a === undefined ? null : RAW.actions[r.a][0],
+    label: r.a === undefined ? (LEAF_LABEL[r.s] || r.s) : RAW.actions[r.a][1],
+    learned: (r.l || []).map(([fact, value]) => ({fact, value})),
+    values: r.v || {},
+    outcomes: (r.o || []).map(([p, child, name, adds, dels]) => ({p, child, name, adds: EFFECTS[adds], deletes: EFFECTS[dels]})),
+    goal: r.g === undefined ? undefined : EFFECTS[r.g],
+  }))};
   const byId = new Map(G.nodes.map(n => [n.id, n]));
+  // a state is stored as its difference from its tree parent's: rebuilt on demand
+  const stateCache = new Map();
+  function stateOf(id) {
+    const chain = [];
+    let r = rawById.get(id);
+    while (!stateCache.has(r.id) && r.st === undefined) { chain.push(r); r = rawById.get(r.sb); }
+    let state = stateCache.has(r.id) ? stateCache.get(r.id) : r.st;
+    stateCache.set(r.id, state);
+    for (let i = chain.length - 1; i >= 0; i--) {
+      const del = new Set(chain[i].sd);
+      state = state.filter(f => !del.has(f)).concat(chain[i].sa).sort((a, b) => a - b);
+      stateCache.set(chain[i].id, state);
+    }
+    return state;
+  }
   const COLORS = {
     "goal": "#3a9d5d", "refined": "#7fb3e6", "unrefined": "#c8cdd2",
     "dead-end-proven": "#c0392b", "dead-end": "#e59866", "horizon": "#f4d03f",
@@ -58,6 +84,7 @@
                      label: big ? undefined : p, width: 0.5 + 3 * o.p});
     });
   }
+  performance.mark("stampc:data");
   const container = document.getElementById("graph");
   const network = new vis.Network(container, {nodes: new vis.DataSet(visNodes), edges: new vis.DataSet(visEdges)}, {
     physics: false,
@@ -69,6 +96,7 @@
     edges: {arrows: {to: {enabled: true, scaleFactor: 0.5}}, smooth: false, color: {color: "#8896a5"},
             font: {size: 11, align: "middle"}},
   });
+  performance.mark("stampc:layout");
   network.once("afterDrawing", () => {
     // thousands of nodes fit as a thin line: start at the root, "fit" shows everything
     if (big) network.focus(G.root, {scale: 0.7, animation: false});
@@ -126,7 +154,8 @@
                el("ul", {}, ...revs.map(r => el("li", {}, `#${r.to} ${r.kind}${r.failed ? " (failed)" : ""}: ${r.facts.join(", ") || "—"}`))));
     }
     if (n.goal) d.append(el("h4", {}, "Goal facts"), factList(n.goal, "none"));
-    d.append(el("h4", {}, `Abstract state (${n.state.length} facts)`), factList(n.state, "empty"));
+    const state = stateOf(id);
+    d.append(el("h4", {}, `Abstract state (${state.length} facts)`), factList(state, "empty"));
   }
 
   // ---------------------------------------------------------------- search
@@ -134,7 +163,7 @@
     const q = e.target.value.trim().toLowerCase();
     if (!q) return;
     const hits = G.nodes.filter(n => String(n.id) === q || (n.action || n.label).toLowerCase().includes(q)
-      || n.state.some(i => FACTS[i].toLowerCase().includes(q)));
+      || stateOf(n.id).some(i => FACTS[i].toLowerCase().includes(q)));
     network.selectNodes(hits.map(n => n.id));
     if (hits.length) select(hits[0].id, true);
   });
@@ -146,11 +175,16 @@
     if (!h) { body.append(el("p", {class: "muted"}, "no prg.json in the run directory (written by stampc refine since this report exists)")); return; }
     body.append(el("p", {}, `${h.nodes.length} PRG nodes, ${h.revisions.length} revisions; the reported policy is PRG node ${h.best}.`));
     if (h.revisions.length) {
-      const rows = h.revisions.map(r => el("tr", {"data-prg": r.to}, el("td", {}, `#${r.to}`), el("td", {}, `#${r.from}`),
-        el("td", {}, fmt(r.time_s, 3)), el("td", {}, r.kind + (r.failed ? " (failed)" : "")),
+      const what = r => r.facts.length ? r.facts.join(", ")
+        : r.kind === "resample" ? `new generator values (node ${r.failed_node} below found no refinement)`
+        : "no facts: the action was banned there";
+      const rows = h.revisions.map(r => el("tr", {"data-prg": r.to, style: r.to === h.best ? "font-weight:bold" : ""},
+        el("td", {}, `#${r.to}`), el("td", {}, `#${r.from}`),
+        el("td", {}, fmt(r.time_s, 3)), el("td", {}, r.kind + (r.failed ? " (failed: no way to the goal below)" : "")),
         el("td", {}, byId.has(r.node) ? nodeLink(r.node) : `node ${r.node} (not in the final policy)`),
-        el("td", {class: "mono"}, r.facts.join(", ") || "—")));
-      body.append(el("table", {id: "revisions"}, el("tr", {}, ...["PRG node", "from", "time (s)", "kind", "at", "facts learned"].map(t => el("th", {}, t))), ...rows));
+        el("td", {class: "mono"}, what(r))));
+      body.append(el("div", {class: "scroll"}, el("table", {id: "revisions"},
+        el("tr", {}, ...["PRG node", "from", "time (s)", "kind", "at", "learned or changed"].map(t => el("th", {}, t))), ...rows)));
     }
     const events = h.events.map(e => el("tr", {}, el("td", {}, fmt(e.time_s, 3)), el("td", {}, e.kind),
       el("td", {}, fmt(e.coverage, 3)), el("td", {}, e.prg_nodes), el("td", {class: "mono"}, e.detail || "")));
@@ -205,14 +239,25 @@
   })();
 
   // ---------------------------------------------------------------- node table
+  // built when first opened: thousands of rows would delay every page load
   const tbody = document.querySelector("#node-table tbody");
-  const frag = document.createDocumentFragment();
-  for (const n of G.nodes) {
-    frag.append(el("tr", {"data-node": n.id, onclick: () => { select(n.id, true); document.getElementById("policy").scrollIntoView(); }},
-      el("td", {}, n.id), el("td", {}, n.depth), el("td", {}, STATUS_TEXT[n.status] || n.status), el("td", {}, n.action || n.label)));
-  }
-  tbody.append(frag);
+  tbody.addEventListener("click", e => {
+    const row = e.target.closest("tr[data-node]");
+    if (!row) return;
+    select(Number(row.dataset.node), true);
+    document.getElementById("policy").scrollIntoView();
+  });
+  document.querySelector("#all-nodes details").addEventListener("toggle", () => {
+    if (tbody.childElementCount) return;
+    const frag = document.createDocumentFragment();
+    for (const n of G.nodes) {
+      frag.append(el("tr", {"data-node": n.id}, el("td", {}, n.id), el("td", {}, n.depth),
+        el("td", {}, STATUS_TEXT[n.status] || n.status), el("td", {}, n.action || n.label)));
+    }
+    tbody.append(frag);
+  });
 
-  window.stampcReport = {network, select, nodeCount: G.nodes.length, edgeCount: visEdges.length};
+  const stateFacts = id => stateOf(id).map(i => FACTS[i]);
+  window.stampcReport = {network, select, stateFacts, nodeCount: G.nodes.length, edgeCount: visEdges.length};
   document.body.dataset.ready = "true";
 })();
