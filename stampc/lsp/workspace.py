@@ -3,7 +3,8 @@ each parsed once per text, and for a file the set of files its names can come fr
 
 A file's *scope* is itself, the modules it ``use``s (transitively: stdlib modules and
 relative paths, resolved as ``check`` resolves them), the domain a problem is ``for``
-(found as ``check`` finds it) and the problems beside a domain that are for it. Names
+(the file beside it that declares that domain, else the one ``check`` finds) and the
+problems beside a domain that are for it. Names
 are looked up over the scope; diagnostics come from ``stampc.semantics`` itself.
 """
 
@@ -93,16 +94,30 @@ class Workspace:
                     yield used
         head = header(source)
         if isinstance(head, ast.ProblemHeader):
-            target = find_domain_file(head, source)
-            if target is not None and (domain := self.source(target)) is not None:
+            domain = self._sibling(source, ast.DomainHeader, head.domain.name)
+            target = find_domain_file(head, source) if domain is None else None
+            if domain is None and target is not None:
+                domain = self.source(target)
+            if domain is not None:
                 yield domain
-        elif isinstance(head, ast.DomainHeader) and source.path is not None:
-            for sibling in sorted(source.path.parent.glob("*.stamp")):
-                other = self.source(sibling)
-                other_head = header(other) if other is not None else None
-                if isinstance(other_head, ast.ProblemHeader) \
-                        and other_head.domain.name == head.name.name:
-                    yield other
+        elif isinstance(head, ast.DomainHeader):
+            yield from self._siblings(source, ast.ProblemHeader, head.name.name)
+
+    def _siblings(self, source: Source, kind: type, domain: str) -> Iterator[Source]:
+        """The .stamp files beside ``source`` whose header is ``kind`` for ``domain``."""
+        if source.path is None:
+            return
+        for sibling in sorted(source.path.parent.glob("*.stamp")):
+            other = self.source(sibling)
+            head = header(other) if other is not None else None
+            if isinstance(head, kind) and (head.domain.name if kind is ast.ProblemHeader
+                                           else head.name.name) == domain:
+                yield other
+
+    def _sibling(self, source: Source, kind: type, domain: str) -> Source | None:
+        """The domain file beside a problem that declares its domain (a folder may hold
+        several domains; ``check`` on the problem alone finds the one by file name)."""
+        return next(self._siblings(source, kind, domain), None)
 
     # ------------------------------------------------------------ names
     def at(self, path: Path, line: int, col: int) -> Found | None:
