@@ -1,8 +1,8 @@
 """``stampc view``: a self-contained HTML report of a refine run (docs/view.md).
 
 ``rundir`` reads the run directory, ``model`` turns the policy into the page's data
-(layout by networkx), ``plots`` draws the coverage figure, ``page`` inlines everything
-into one HTML file (vis-network from the ``view`` extra draws the graph).
+(tree layout by igraph), ``plots`` draws the coverage figure, ``page`` inlines
+everything into one HTML file (vis-network from the ``view`` extra draws the graph).
 """
 
 from __future__ import annotations

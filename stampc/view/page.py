@@ -37,8 +37,12 @@ def vis_network_files() -> tuple[str, str]:
     """The vis-network script and stylesheet shipped inside the installed pyvis package
     (located without importing pyvis, which pulls in IPython)."""
     spec = importlib.util.find_spec("pyvis")
-    if spec is None or not spec.submodule_search_locations:
-        raise MissingViewExtra("stampc view needs vis-network from the `pyvis` package: "
+    missing = [name for name, found in (("pyvis", spec is not None and spec.submodule_search_locations),
+                                        ("igraph", importlib.util.find_spec("igraph")))
+               if not found]
+    if missing:
+        raise MissingViewExtra(f"stampc view needs {' and '.join(missing)} (vis-network is "
+                               "shipped inside pyvis; igraph lays the graph out): "
                                "pip install 'stampc[view]'")
     folder = Path(next(iter(spec.submodule_search_locations))).joinpath(*VIS_DIR)
     return ((folder / "vis-network.min.js").read_text(encoding="utf-8"),

@@ -17,7 +17,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 HEAVY = {"pybullet", "ompl", "matplotlib", "networkx", "jinja2", "numpy", "rich", "imageio",
-         "pygls", "lsprotocol", "pyvis", "selenium", "cattrs"}
+         "pygls", "lsprotocol", "pyvis", "selenium", "cattrs", "igraph"}
 DOMINO = [str(REPO / "examples" / "domino" / f) for f in ("domain.stamp", "problem.stamp")]
 
 PROBE = """

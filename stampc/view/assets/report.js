@@ -1,6 +1,6 @@
 // stampc view: the report's behaviour. Data comes from #report-data (written by
-// stampc/view/page.py); the graph is drawn by vis-network (inlined above) with its
-// hierarchical layout (levels = policy depth).
+// stampc/view/page.py); the graph is drawn by vis-network (inlined above) at the
+// positions of igraph's tree layout (computed in Python): the browser does no layout.
 "use strict";
 (function () {
   const DATA = JSON.parse(document.getElementById("report-data").textContent);
@@ -9,7 +9,7 @@
   const rawById = new Map(RAW.nodes.map(r => [r.id, r]));
   const LEAF_LABEL = {"goal": "goal", "dead-end-proven": "dead end", "dead-end": "dead end?", "horizon": "horizon"};
   const G = {root: RAW.root, nodes: RAW.nodes.map(r => ({
-    id: r.id, depth: r.d, status: r.s,
+    id: r.id, depth: r.d, status: r.s, x: r.x, y: r.y,
     action: r.a === undefined ? null : RAW.actions[r.a][0],
     label: r.a === undefined ? (LEAF_LABEL[r.s] || r.s) : RAW.actions[r.a][1],
     learned: (r.l || []).map(([fact, value]) => ({fact, value})),
@@ -70,7 +70,7 @@
 
   // ---------------------------------------------------------------- graph
   const visNodes = G.nodes.map(n => ({
-    id: n.id, level: n.depth, label: n.label,
+    id: n.id, x: n.x, y: n.y, label: n.label,
     title: `node ${n.id}: ${n.action || n.label} (${STATUS_TEXT[n.status] || n.status})`,
     color: {background: COLORS[n.status] || "#888", border: n.id === G.root ? "#000" : "#555"},
     shape: n.action ? "box" : "ellipse", borderWidth: n.id === G.root ? 3 : 1,
@@ -88,9 +88,7 @@
   const container = document.getElementById("graph");
   const network = new vis.Network(container, {nodes: new vis.DataSet(visNodes), edges: new vis.DataSet(visEdges)}, {
     physics: false,
-    layout: {improvedLayout: false, hierarchical: {
-      enabled: true, direction: "UD", sortMethod: "directed", edgeMinimization: !big,
-      blockShifting: true, parentCentralization: true, nodeSpacing: 70, levelSeparation: 130}},
+    layout: {improvedLayout: false, hierarchical: false},  // positions from igraph
     interaction: {hover: !big, hideEdgesOnDrag: big, hideEdgesOnZoom: big, tooltipDelay: 150},
     nodes: {font: {size: 14}, margin: 6, scaling: {label: {drawThreshold: 6}}},
     edges: {arrows: {to: {enabled: true, scaleFactor: 0.5}}, smooth: false, color: {color: "#8896a5"},
