@@ -17,6 +17,7 @@ from typing import Any, Mapping
 
 from stampc.diagnostics import Span, StampcError, error
 
+CODES = {"I004": "a run-directory file is not what `stampc refine` / `execute` writes"}
 HINT = "pass the directory written by `stampc refine ... -o DIR` (re-run it if a file is damaged)"
 COVERAGE_COLUMNS = ("time_s", "coverage", "goal_probability", "refined_nodes", "prg_nodes",
                     "abstract_solves", "event")
