@@ -94,7 +94,7 @@
     edges: {arrows: {to: {enabled: true, scaleFactor: 0.5}}, smooth: false, color: {color: "#8896a5"},
             font: {size: 11, align: "middle"}},
   });
-  performance.mark("stampc:layout");
+  performance.mark("stampc:network");
   network.once("afterDrawing", () => {
     // thousands of nodes fit as a thin line: start at the root, "fit" shows everything
     if (big) network.focus(G.root, {scale: 0.7, animation: false});
