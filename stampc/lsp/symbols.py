@@ -2,11 +2,11 @@
 declares or uses it — read from the AST's fields, so the language server sees exactly
 the identifiers (and spans) the front end sees.
 
-Kinds: ``type``, ``predicate`` (functions too: one namespace for atoms and numeric
-fluents is not assumed, they are separate kinds), ``function``, ``generator``,
-``action``, ``constant`` (constants and problem objects) and ``param`` (action,
-generator, predicate and quantifier parameters). A name in an argument position is a
-``term``: a constant or object when one is declared with that name, else a variable.
+Kinds: ``type``, ``predicate``, ``function`` (a use of either resolves to either),
+``generator``, ``action``, ``constant`` (constants and problem objects) and ``param``
+(action, generator, predicate and quantifier parameters). A name in an argument
+position is a ``term``: the parameter of that name in its declaration, else a
+constant or object.
 """
 
 from __future__ import annotations

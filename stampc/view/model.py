@@ -2,8 +2,8 @@
 
 Facts, effect lists and ground actions are interned, states are stored as differences
 from a parent's, and concrete values are summarised (a trajectory becomes its waypoint
-count, ends and length), so a policy of ten thousand nodes stays a few MB. The page lays the graph out with vis-network's
-hierarchical layout, one level per policy depth.
+count, ends and length), so a policy of twenty thousand nodes stays a few MB. Node
+positions come from igraph's tree layout, computed here once.
 """
 
 from __future__ import annotations
@@ -13,6 +13,8 @@ import math
 from collections import deque
 from typing import Any, Mapping
 
+#: px between neighbours and between layers of the tree layout
+NODE_GAP, LAYER_GAP = 80, 130
 
 
 class Interner:
@@ -27,10 +29,6 @@ class Interner:
     @property
     def table(self) -> list:
         return [list(v) if isinstance(v, tuple) else v for v in self.index]
-
-
-#: px between neighbours and between layers of the tree layout
-NODE_GAP, LAYER_GAP = 80, 130
 
 
 def _literal(lit: Mapping[str, Any]) -> str:
@@ -53,6 +51,10 @@ def page_data(policy: Mapping[str, Any]) -> dict[str, Any]:
     from the state of the node's breadth-first parent (``sb``: parent, ``sa``/``sd``:
     facts added/removed; ``st``: the whole state, at the root). report.js expands it."""
     facts, effects, actions = Interner(), Interner(), Interner()
+
+    def literal_list(literals) -> int:
+        return effects.id(tuple(facts.id(_literal(x)) for x in literals))
+
     nodes = policy["nodes"]
     states = {n["id"]: {facts.id(f) for f in n.get("state", [])} for n in nodes}
     parent = _tree_parents(policy)
@@ -78,11 +80,10 @@ def page_data(policy: Mapping[str, Any]) -> dict[str, Any]:
             entry["v"] = {k: summarise(v) for k, v in node["sigma"].items()}
         if node.get("outcomes"):
             entry["o"] = [[_rounded_p(o.get("probability")), o.get("child"), o.get("name", ""),
-                           effects.id(tuple(facts.id(_literal(x)) for x in o.get("adds", []))),
-                           effects.id(tuple(facts.id(_literal(x)) for x in o.get("deletes", [])))]
+                           literal_list(o.get("adds", [])), literal_list(o.get("deletes", []))]
                           for o in node["outcomes"]]
         if "goal_facts" in node:
-            entry["g"] = effects.id(tuple(facts.id(_literal(x)) for x in node["goal_facts"]))
+            entry["g"] = literal_list(node["goal_facts"])
         out.append(entry)
     return {"root": policy["root"], "nodes": out, "facts": facts.table,
             "effects": effects.table, "actions": actions.table}
