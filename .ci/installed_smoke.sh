@@ -75,6 +75,26 @@ expect 0 "$CLONE" "$STAMPC" view out/
 expect 0 "$WORK/elsewhere" "$STAMPC" execute "$CLONE/out2d/policy.json" --runs 5
 expect 0 "$WORK/elsewhere" "$STAMPC" refine "$EX/domino/domain.stamp" "$EX/domino/problem.stamp" \
        --world pybullet --time-limit 60 -o "$WORK/elsewhere/out"
+# the language server: initialize, shutdown and exit over stdio, as an editor does
+cat > "$WORK/lsp_smoke.py" <<'PY'
+import json, subprocess, sys
+def frame(obj):
+    body = json.dumps(obj).encode()
+    return b"Content-Length: %d\r\n\r\n" % len(body) + body
+messages = [
+    {"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}},
+    {"jsonrpc": "2.0", "method": "initialized", "params": {}},
+    {"jsonrpc": "2.0", "id": 2, "method": "shutdown"},
+    {"jsonrpc": "2.0", "method": "exit"},
+]
+done = subprocess.run([sys.argv[1], "lsp"], input=b"".join(map(frame, messages)),
+                      capture_output=True, timeout=60)
+out = done.stdout.decode().replace('":', '": ').replace('":  ', '": ')
+assert '"hoverProvider": true' in out and '"id": 2' in out, out[:500]
+print("stampc lsp answered initialize and shutdown, exit", done.returncode)
+sys.exit(done.returncode)
+PY
+expect 0 "$WORK/elsewhere" "$WORK/venv/bin/python" "$WORK/lsp_smoke.py" "$STAMPC"
 expect 2 "$WORK/elsewhere" "$STAMPC" check no_such_file.stamp
 expect 2 "$WORK/elsewhere" "$STAMPC" refine "$EX/domino/domain.stamp" --time-limit 0
 
