@@ -112,3 +112,14 @@ def test_a_path_that_is_no_directory_is_a_usage_error(tmp_path, capsys, what):
 def test_an_unwritable_output_is_a_usage_error(shelf_run, tmp_path, capsys):
     assert main(["view", str(shelf_run), "-o", str(tmp_path / "no" / "such" / "r.html")]) == 2
     assert "stampc view: error:" in capsys.readouterr().err
+
+
+def test_open_hands_the_report_to_the_web_browser(shelf_run, tmp_path, monkeypatch, capsys):
+    opened = []
+    monkeypatch.setattr("webbrowser.open", lambda url: opened.append(url) or True)
+    out = tmp_path / "r.html"
+    assert main(["view", str(shelf_run), "-o", str(out), "--open"]) == 0
+    assert opened == [out.resolve().as_uri()]
+    monkeypatch.setattr("webbrowser.open", lambda url: False)  # no browser on this machine
+    assert main(["view", str(shelf_run), "-o", str(out), "--open"]) == 0
+    assert "no web browser found" in capsys.readouterr().err
