@@ -60,6 +60,7 @@ def load_run_dir(path: Path) -> RunDir:
         raise StampcError([error("I004", "no policy.json here: not a refine output directory",
                                  Span.point(str(path)), hint=HINT)])
     policy = load_policy(policy_path).data
+    _check_nodes(policy, policy_path)
     return RunDir(
         path=path, policy=policy,
         summary=_optional_json(path / "summary.json", lambda d: "coverage" in d),
@@ -67,6 +68,31 @@ def load_run_dir(path: Path) -> RunDir:
         history=_optional_json(path / "prg.json", lambda d: d.get("format") == "stampc-prg"),
         executions=tuple((p.name, _execution(p)) for p in sorted(path.glob(EXECUTE_GLOB))),
         frames=_frames(path))
+
+
+def _check_nodes(policy: Mapping[str, Any], path: Path) -> None:
+    """The node fields the report reads, beyond what ``execute`` checks (I004)."""
+    def literals(value: Any) -> bool:
+        return isinstance(value, list) and all(
+            isinstance(x, dict) and isinstance(x.get("predicate"), str)
+            and isinstance(x.get("args"), list) for x in value)
+
+    for i, node in enumerate(policy["nodes"]):
+        outcomes = node.get("outcomes", [])
+        wrong = [name for name, ok in (
+            ("state", isinstance(node.get("state", []), list)),
+            ("depth", isinstance(node.get("depth", 0), int)),
+            ("learned", isinstance(node.get("learned", []), list) and all(
+                isinstance(f, dict) for f in node.get("learned", []))),
+            ("sigma", isinstance(node.get("sigma") or {}, dict)),
+            ("goal_facts", literals(node.get("goal_facts", []))),
+            ("outcomes", isinstance(outcomes, list) and all(
+                isinstance(o.get("probability"), (int, float)) and literals(o.get("adds", []))
+                and literals(o.get("deletes", [])) for o in outcomes)),
+        ) if not ok]
+        if wrong:
+            raise _bad(path, f"`nodes[{i}]` (id {node['id']}): `{wrong[0]}` is not as "
+                             "`stampc refine` writes it")
 
 
 def _optional_json(path: Path, looks_right) -> Mapping[str, Any] | None:

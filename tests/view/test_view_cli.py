@@ -93,6 +93,21 @@ def test_a_damaged_policy_is_i003(shelf_run, tmp_path, capsys):
     assert "policy.json:1:" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("field, value", [
+    ("state", 3), ("learned", "x"), ("sigma", [1]), ("outcomes", "half")])
+def test_a_policy_node_the_report_cannot_read_is_i004(shelf_run, tmp_path, capsys, field, value):
+    run = copy_run(shelf_run, tmp_path)
+    policy = json.loads((run / "policy.json").read_text())
+    if field == "outcomes":  # a probability that is no number, the child still valid
+        policy["nodes"][1]["outcomes"][0]["probability"] = value
+    else:
+        policy["nodes"][1][field] = value
+    (run / "policy.json").write_text(json.dumps(policy))
+    assert main(["view", str(run)]) == 1
+    err = capsys.readouterr().err
+    assert "policy.json:1:1: I004" in err and f"`nodes[1]`" in err and f"`{field}`" in err
+
+
 def test_a_folder_without_policy_is_i004(tmp_path, capsys):
     assert main(["view", str(tmp_path)]) == 1
     err = capsys.readouterr().err
