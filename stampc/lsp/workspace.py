@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterator
 
-from stampc.diagnostics import Diagnostic
+from stampc.diagnostics import Diagnostic, StampcError
 from stampc.lsp.symbols import RESOLVES_TO, Occurrence, at_position, enclosing_param, occurrences
 from stampc.semantics.loader import (Source, display_name, find_domain_file, locate_use,
                                      source_from_text)
@@ -66,9 +66,15 @@ class Workspace:
         """What ``stampc check FILE`` reports for this file, on the editor's text."""
         from stampc.semantics.api import analyze, unique_sorted
 
+        from stampc.inputs import checked_text
+
         source = self.source(path)
         if source is None:
             return []
+        try:
+            checked_text(source.text, source.name)
+        except StampcError as exc:  # a blank document: I002, as `check` says of the file
+            return list(exc.diagnostics)
         diags = [d for p in analyze([source]) for d in p.diagnostics]
         return [d for d in unique_sorted(diags) if d.span.file == source.name]
 

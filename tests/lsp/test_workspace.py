@@ -55,6 +55,13 @@ def test_an_open_document_wins_over_the_file(tmp_path):
     assert [d.code for d in ws.diagnostics(path)] == ["W401"]
 
 
+def test_a_blank_document_is_i002_as_in_check(tmp_path):
+    path = tmp_path / "blank.stamp"
+    ws = Workspace()
+    ws.set_text(path, "  \n")
+    assert [(d.code, d.span.line) for d in ws.diagnostics(path)] == [("I002", 1)]
+
+
 def test_unreadable_files_are_no_crash(tmp_path):
     ws = Workspace()
     missing = tmp_path / "missing.stamp"
