@@ -23,7 +23,7 @@ if [[ "${STAMPC_SMOKE_SYSTEM_SITE:-0}" == 1 ]]; then
     "$WORK/venv/bin/python" -m pip install --quiet --ignore-installed --no-deps "$WHEEL"
 else
     "$PYTHON" -m venv "$WORK/venv"
-    "$WORK/venv/bin/python" -m pip install --quiet "$WHEEL"
+    "$WORK/venv/bin/python" -m pip install --quiet "$WHEEL[view,lsp]"
 fi
 STAMPC="$WORK/venv/bin/stampc"
 INSTALLED="$(cd "$WORK" && "$WORK/venv/bin/python" -c 'import stampc; print(stampc.__file__)')"
@@ -70,9 +70,31 @@ expect 0 "$CLONE" "$STAMPC" refine examples/cluttered_table/domain_fixed.stamp e
 expect 0 "$CLONE" "$STAMPC" refine examples/cluttered_table/domain.stamp examples/cluttered_table/problem.stamp \
        --world pybullet --time-limit 120 -o out/
 expect 0 "$CLONE" "$STAMPC" execute out/policy.json --runs 50 --seed 1 --render out/frames
+expect 0 "$CLONE" "$STAMPC" view out/
+[[ -s "$CLONE/out/report.html" ]] || { echo "FAIL: stampc view wrote no out/report.html" >&2; exit 1; }
 expect 0 "$WORK/elsewhere" "$STAMPC" execute "$CLONE/out2d/policy.json" --runs 5
 expect 0 "$WORK/elsewhere" "$STAMPC" refine "$EX/domino/domain.stamp" "$EX/domino/problem.stamp" \
        --world pybullet --time-limit 60 -o "$WORK/elsewhere/out"
+# the language server: initialize, shutdown and exit over stdio, as an editor does
+cat > "$WORK/lsp_smoke.py" <<'PY'
+import json, subprocess, sys
+def frame(obj):
+    body = json.dumps(obj).encode()
+    return b"Content-Length: %d\r\n\r\n" % len(body) + body
+messages = [
+    {"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}},
+    {"jsonrpc": "2.0", "method": "initialized", "params": {}},
+    {"jsonrpc": "2.0", "id": 2, "method": "shutdown"},
+    {"jsonrpc": "2.0", "method": "exit"},
+]
+done = subprocess.run([sys.argv[1], "lsp"], input=b"".join(map(frame, messages)),
+                      capture_output=True, timeout=60)
+out = done.stdout.decode().replace('":', '": ').replace('":  ', '": ')
+assert '"hoverProvider": true' in out and '"id": 2' in out, out[:500]
+print("stampc lsp answered initialize and shutdown, exit", done.returncode)
+sys.exit(done.returncode)
+PY
+expect 0 "$WORK/elsewhere" "$WORK/venv/bin/python" "$WORK/lsp_smoke.py" "$STAMPC"
 expect 2 "$WORK/elsewhere" "$STAMPC" check no_such_file.stamp
 expect 2 "$WORK/elsewhere" "$STAMPC" refine "$EX/domino/domain.stamp" --time-limit 0
 

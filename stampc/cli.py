@@ -18,7 +18,7 @@ import sys
 from stampc import __version__
 from stampc.commands.common import EXIT_CODES_HELP, EXIT_USAGE
 
-COMMANDS = ("check", "fmt", "compile", "solve", "refine", "execute")
+COMMANDS = ("check", "fmt", "compile", "solve", "refine", "execute", "view", "lsp")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -45,7 +45,12 @@ def read_input_text(path: Path, shown: str | None = None) -> str:
                                  _span_of_offset(shown, data, offset),
                                  hint="stamp and PPDDL inputs are UTF-8 text files; "
                                       "was a binary or differently encoded file passed?")])
-    text = data.decode("utf-8")
+    return checked_text(data.decode("utf-8"), shown)
+
+
+def checked_text(text: str, shown: str) -> str:
+    """``text`` without a byte-order mark; ``I002`` when it is blank (also for text that
+    never was a file: an editor's buffer in the language server)."""
     text = text[1:] if text.startswith(BOM) else text
     if not text.strip():
         raise StampcError([error("I002", "empty file: nothing to read", Span.point(shown),

@@ -37,7 +37,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
                         help="override a scene-builder argument (repeatable)")
     parser.add_argument("-o", "--output", metavar="DIR", help="write policy.json, coverage.csv, "
-                        "coverage.png, policy.dot, policy.svg, summary.json here")
+                        "coverage.png, policy.dot, policy.svg, summary.json, prg.json here "
+                        "(`stampc view DIR` makes an HTML report of them)")
     parser.add_argument("--quiet", action="store_true", help="no progress display")
     parser.add_argument("--verbose", action="store_true", help="let simulators print")
 
@@ -75,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
     if args.output:
         notes = run_.write(Path(args.output))
         print(f"wrote {args.output}/policy.json, coverage.csv, coverage.png, policy.dot, "
-              "policy.svg, summary.json")
+              "policy.svg, summary.json, prg.json")
         for note in notes:
             print(f"note: {note}")
     if result.coverage >= args.target_coverage - 1e-9:

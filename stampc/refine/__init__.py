@@ -15,6 +15,7 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.engine import Engine
 from stampc.refine.export import policy_json, write_outputs
 from stampc.refine.graph import PolicyGraph
+from stampc.refine.history import prg_history
 from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult, check_refine_options
 from stampc.worlds.bindings import ResolvedBindings
 
@@ -31,6 +32,8 @@ class RefinedPolicy:
     model: GroundModel
     initial_values: Mapping[str, Any]
     meta: Mapping[str, Any] = field(default_factory=dict)
+    #: the PRG's revisions and the progress events (``stampc.refine.history``): prg.json
+    history: Mapping[str, Any] | None = None
 
     def to_json(self) -> dict:
         if self.graph is None:
@@ -43,7 +46,7 @@ class RefinedPolicy:
         if self.graph is None:
             return []
         return write_outputs(Path(out_dir), self.model, self.graph, self.result,
-                             self.initial_values, self.meta)
+                             self.initial_values, self.meta, history=self.history)
 
 
 def run_refinement(model: GroundModel, world: Any, bindings: ResolvedBindings,
@@ -58,5 +61,6 @@ def run_refinement(model: GroundModel, world: Any, bindings: ResolvedBindings,
                 on_event(event)
     except KeyboardInterrupt:
         engine.stop_reason = "interrupted"
-    return RefinedPolicy(engine.result(), engine.best_graph, model, engine.initial_values,
-                         dict(meta or {}))
+    result = engine.result()
+    return RefinedPolicy(result, engine.best_graph, model, engine.initial_values,
+                         dict(meta or {}), prg_history(engine.prg, result.events, engine.best_prg))

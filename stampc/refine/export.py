@@ -1,5 +1,5 @@
 """Write a refinement run's outputs: policy.json, coverage.csv/.png, policy.dot/.svg,
-summary.json.
+summary.json and prg.json (the PRG's history, ``stampc.refine.history``).
 
 policy.json is deterministic for a given seed (no timings in it), so it can be diffed;
 timings live in coverage.csv and summary.json.
@@ -229,7 +229,8 @@ def _outcome_name(names: tuple[tuple[str, ...], ...], outcome: int) -> dict[str,
 
 
 def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result: RefineResult,
-                  initial_values: Mapping[str, Any], meta: Mapping[str, Any]) -> list[str]:
+                  initial_values: Mapping[str, Any], meta: Mapping[str, Any], *,
+                  history: Mapping[str, Any] | None = None) -> list[str]:
     """Write every output; returns notes on what was shortened (also in summary.json)."""
     from stampc.provenance import anchored
 
@@ -244,4 +245,6 @@ def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result:
     write_coverage_csv(result, out_dir / "coverage.csv")
     write_coverage_png(result, out_dir / "coverage.png", str(meta.get("problem", "")))
     (out_dir / "summary.json").write_text(json.dumps(summary_json(result, meta, notes), indent=2))
+    if history is not None:
+        (out_dir / "prg.json").write_text(json.dumps(history, indent=1))
     return notes

@@ -193,6 +193,12 @@ class Resolver:
         return None
 
 
+def locate_use(use: ast.Use, owner: Source) -> Path | None:
+    """The file ``use`` names from ``owner`` (a stdlib module or a relative path), or
+    None; what ``check`` resolves, for tools such as the language server."""
+    return Resolver._locate(use, owner)
+
+
 def find_domain_file(problem: ast.ProblemHeader, owner: Source) -> Path | None:
     """``DOMAIN.stamp`` or ``domain.stamp`` beside the problem file."""
     if owner.path is None:

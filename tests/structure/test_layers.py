@@ -31,6 +31,10 @@ ALLOWED = {
     "worlds.plane2d": BASE | {"worlds.base"},
     "worlds.pybullet": BASE | {"worlds.base"},
     "refine": BASE | {"ir", "solvers", "worlds.base", "worlds.bindings", "provenance"},
+    # the report reads run directories as `execute` does; it never runs the engine
+    "view": BASE | {"execute"},
+    # the language server is the front end's: no IR, solver or world
+    "lsp": BASE | {"syntax", "semantics", "commands"},
 }
 
 

@@ -16,7 +16,8 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
-HEAVY = {"pybullet", "ompl", "matplotlib", "networkx", "jinja2", "numpy", "rich", "imageio"}
+HEAVY = {"pybullet", "ompl", "matplotlib", "networkx", "jinja2", "numpy", "rich", "imageio",
+         "pygls", "lsprotocol", "pyvis", "selenium", "cattrs", "igraph"}
 DOMINO = [str(REPO / "examples" / "domino" / f) for f in ("domain.stamp", "problem.stamp")]
 
 PROBE = """
@@ -45,7 +46,9 @@ def modules_after(argv: list[str], cache: Path | str, cwd: Path) -> tuple[int, s
     ["check", *DOMINO],
     ["fmt", DOMINO[0]],
     ["solve", *DOMINO, "--unit-cost"],
-], ids=["help", "check", "fmt", "solve-stamp"])
+    ["view", "--help"],
+    ["lsp", "--help"],
+], ids=["help", "check", "fmt", "solve-stamp", "view-help", "lsp-help"])
 def test_light_commands_import_no_heavy_module(argv, tmp_path):
     code, modules = modules_after(argv, tmp_path / "cache", tmp_path)
     assert code == 0
