@@ -15,7 +15,7 @@ from dataclasses import dataclass, fields, is_dataclass
 from typing import Iterator
 
 from stampc.diagnostics import Span
-from stampc.syntax import ast
+from stampc.syntax import ast, indexed
 
 DEFINES: dict[tuple[type, str], str] = {
     (ast.TypeDecl, "names"): "type", (ast.PredicateDecl, "name"): "predicate",
@@ -32,6 +32,9 @@ USES: dict[tuple[type, str], str] = {
     (ast.Atom, "args"): "term", (ast.Eq, "left"): "term", (ast.Eq, "right"): "term",
     (ast.FuncApp, "args"): "term", (ast.Sample, "inputs"): "term",
     (ast.Sample, "outputs"): "term",
+    # problem comprehensions (`init forall (i: 0..3) adjacent(cell(i), cell(i + 1))`):
+    # the predicate and the plain-name arguments; indexed names are built, not declared
+    (indexed.IndexedAtom, "predicate"): "predicate", (indexed.IndexedAtom, "args"): "term",
 }
 #: the kinds a use of each kind may resolve to
 RESOLVES_TO = {"type": ("type",), "predicate": ("predicate", "function"),

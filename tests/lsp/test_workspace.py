@@ -71,3 +71,27 @@ def test_unreadable_files_are_no_crash(tmp_path):
     binary.write_bytes(b"\xff\xfe\x00")
     assert ws.source(binary) is None
     assert completion_candidates(ws, Path(binary), 1)  # keywords at least
+
+
+def test_derived_predicates_and_comprehension_names_resolve():
+    """The language features of issue 14 in the editor: a derived predicate used in a
+    precondition goes to its `derived predicate` declaration, a symmetric one used in a
+    problem comprehension to its domain declaration, and the comprehension's index
+    variables are not mistaken for objects."""
+    domain = REPO / "examples" / "warehouse" / "domain.stamp"
+    problem = REPO / "examples" / "warehouse" / "problem.stamp"
+    ws = Workspace()
+    dlines = domain.read_text().splitlines()
+    use = next(i for i, l in enumerate(dlines, 1) if l.strip() == "open(a, b)")
+    found = ws.at(domain, use, dlines[use - 1].index("open") + 1)
+    assert found is not None and found.occurrence.kind == "predicate"
+    [target] = ws.definitions(domain, found)
+    assert target.occurrence.defines and target.occurrence.span.line == next(
+        i for i, l in enumerate(dlines, 1) if l.startswith("derived predicate open"))
+    plines = problem.read_text().splitlines()
+    row = next(i for i, l in enumerate(plines, 1) if "forall (i: 0..1" in l)
+    found = ws.at(problem, row, plines[row - 1].index("adjacent") + 1)
+    assert found is not None
+    [target] = ws.definitions(problem, found)
+    assert target.source.path.name == "domain.stamp"
+    assert not [d for d in ws.diagnostics(problem) if d.is_error]
