@@ -19,7 +19,9 @@ over the other predicates (docs/ir.md, "Derived and symmetric predicates"):
   strata first) and grounding turns them into a ground axiom program
   (:mod:`stampc.ir.axioms`) that closes every state.
 
-Recursion must be stratified: a cycle through a negation is G121.
+Recursion must be stratified: a cycle through a negation is G121. An action effect on a
+derived predicate is G122 (before 2.2 of the IR, G122 meant recursion over a fluent,
+which is now supported).
 """
 
 from __future__ import annotations
@@ -106,6 +108,7 @@ def _merged(model: L.Model, diags: list[Diagnostic]) -> dict[str, L.Axiom]:
 def _expand_axioms(model: L.Model) -> L.Model:
     diags: list[Diagnostic] = []
     axioms = _merged(model, diags)
+    _check_not_written(model, axioms, diags)
     changed = _changed_predicates(model.domain.actions)
     defs: dict[str, L.Axiom] = {}          # non-recursive: substituted
     static_facts: set[Key] = {(a.predicate, tuple(t.name for t in a.args)) for a in model.problem.init}
@@ -129,6 +132,19 @@ def _expand_axioms(model: L.Model) -> L.Model:
     if diags:
         raise StampcError(diags)
     return _rewrite(model, defs, closed, static_facts, fresh, tuple(kept))
+
+
+def _check_not_written(model: L.Model, axioms: dict[str, L.Axiom],
+                       diags: list[Diagnostic]) -> None:
+    """G122: an effect on a derived predicate (stamp reports E311 earlier; PPDDL's
+    ``:derived`` section does not stop an action from writing the predicate)."""
+    for action in model.domain.actions:
+        written = sorted(_changed_predicates((action,)) & set(axioms))
+        if written:
+            diags.append(error("G122", f"action '{action.name}' writes derived predicate "
+                               f"'{written[0]}'", located(action.span, model),
+                               "derived facts follow from their axioms in every state; "
+                               "change the facts the definition reads instead"))
 
 
 def _rewrite(model: L.Model, defs: dict[str, L.Axiom], closed: set[str], facts: set[Key],
