@@ -193,11 +193,15 @@ class GroundAction:
                 outcome_distribution(self, 0) if self.effect.state_independent else None)
         return self._cache["static"]
 
+    def basic_outcomes(self, state: int) -> tuple[Successor, ...]:
+        """Joint outcomes in ``state`` as the effects write them (derived facts untouched)."""
+        cached = self.static_outcomes()
+        return cached if cached is not None else outcome_distribution(self, state)
+
     def outcomes(self, state: int) -> tuple[Successor, ...]:
         """Joint outcomes in ``state``; with axioms, each one's masks also update the
-        derived facts (the successor is closed), aligned with the unclosed outcomes."""
-        cached = self.static_outcomes()
-        outs = cached if cached is not None else outcome_distribution(self, state)
+        derived facts (the successor is closed), aligned with :meth:`basic_outcomes`."""
+        outs = self.basic_outcomes(state)
         axioms = self._cache.get("axioms")
         return outs if axioms is None else tuple(_closed(o, state, axioms) for o in outs)
 
