@@ -21,7 +21,7 @@ from stampc.solvers.lmcut import LMCut
 from stampc.solvers.solution import SolverOptions
 from stampc.solvers.successors import SuccessorCache
 
-from .states import reachable_fact_sets
+from .states import reachable_fact_sets, reachable_states
 
 HERE = Path(__file__).resolve().parent / "derived"
 BLOCKS = ("table", "a", "b", "c", "d")
@@ -40,20 +40,6 @@ def axioms_model():
 @pytest.fixture(scope="module")
 def unrolled_model():
     return stampc.ground(imported("above-unrolled.pddl", "above-unrolled-problem.pddl"))
-
-
-def reachable(gm) -> set[int]:
-    seen, stack = {gm.init}, [gm.init]
-    while stack:
-        s = stack.pop()
-        for a in gm.actions:
-            if a.precondition.holds(s):
-                for o in a.outcomes(s):
-                    n = o.apply(s)
-                    if n not in seen:
-                        seen.add(n)
-                        stack.append(n)
-    return seen
 
 
 def closure(on: set[tuple[str, str]]) -> set[tuple[str, str]]:
@@ -86,7 +72,7 @@ def test_same_reachable_states_as_the_unrolled_domain(axioms_model, unrolled_mod
 
 def test_every_reachable_state_is_closed_under_the_axioms(axioms_model):
     gm = axioms_model
-    states = reachable(gm)
+    states = reachable_states(gm)
     for s in states:
         assert gm.axioms.close(s) == s
         assert pairs(gm, s, "above") == closure(pairs(gm, s, "on"))
@@ -122,7 +108,7 @@ def test_admissible_heuristics_stay_below_the_optimal_values(axioms_model):
     gm = axioms_model
     exact = stampc.solve(gm, SolverOptions(algorithm="vi", heuristic="zero", epsilon=1e-8))
     hmax, lmcut = make_heuristic("hmax", gm, False), LMCut(gm, False)
-    states = reachable(gm)
+    states = reachable_states(gm)
     for s in states:
         v = exact.value(s)
         assert hmax(s) <= lmcut(s) + 1e-9 and lmcut(s) <= v + 1e-6
@@ -178,3 +164,24 @@ def test_stamp_language_version_matches_the_unrolled_domain(unrolled_model):
     for algorithm in ("lao", "vi", "lrtdp"):
         assert stampc.solve(gm, SolverOptions(algorithm=algorithm)).expected_cost == \
             pytest.approx(stampc.solve(unrolled_model).expected_cost, abs=1e-3)
+
+
+STRATA = (HERE / "above.stamp").read_text().replace(
+    "action move(", """# stratum 2: recursive, and reads stratum 1 (`above`) negatively
+derived predicate loose(a, b: block) :=
+    (on(a, b) and not above(b, a)) or exists (c: block) (loose(a, c) and loose(c, b))
+action move(""")
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sets(st.tuples(st.sampled_from(BLOCKS[1:]), st.sampled_from(BLOCKS))))
+def test_a_higher_stratum_reads_the_lower_one_negatively(on):
+    gm = stampc.ground(lower(load(STRATA)))
+    strata = {gm.facts[r.head].predicate: r.stratum for r in gm.axioms.rules}
+    assert strata["above"] < strata["loose"]
+    state = gm.axioms.close(gm.state_of(GroundAtom("on", p) for p in on
+                                        if gm.has_fact(GroundAtom("on", p))))
+    on = pairs(gm, state, "on")  # cycles included: then `above(b, a)` blocks `loose`
+    above = closure(on)
+    assert pairs(gm, state, "above") == above
+    assert pairs(gm, state, "loose") == closure({(a, b) for a, b in on if (b, a) not in above})
