@@ -185,3 +185,16 @@ def test_a_higher_stratum_reads_the_lower_one_negatively(on):
     above = closure(on)
     assert pairs(gm, state, "above") == above
     assert pairs(gm, state, "loose") == closure({(a, b) for a, b in on if (b, a) not in above})
+
+
+def test_outcome_labels_stay_aligned_with_closed_outcomes():
+    from stampc.refine.outcomes import outcome_labels
+    text = (HERE / "above.stamp").read_text().replace(
+        "3/4: on(a, dst)", "3/4 as placed: on(a, dst)").replace(
+        "1/4: on(a, table)", "1/4 as dropped: on(a, table)")
+    gm = stampc.ground(lower(load(text)))
+    move = next(a for a in gm.actions if a.label == "move(a, b, c)")
+    outcomes = move.outcomes(gm.init)
+    after = [pairs(gm, o.apply(gm.init), "above") for o in outcomes]
+    assert ("a", "c") in after[0] and ("a", "b") not in after[0]  # derived facts updated
+    assert outcome_labels(move, gm.init) == (("placed",), ("dropped",))
