@@ -20,8 +20,8 @@ over the other predicates (docs/ir.md, "Derived and symmetric predicates"):
   (:mod:`stampc.ir.axioms`) that closes every state.
 
 Recursion must be stratified: a cycle through a negation is G121. An action effect on a
-derived predicate is G122 (before 2.2 of the IR, G122 meant recursion over a fluent,
-which is now supported).
+derived predicate is G122 (the code used to report recursion over a fluent, which is
+now supported).
 """
 
 from __future__ import annotations
