@@ -159,6 +159,7 @@ class TruthModel:
         for fact in node["state"]:
             if fact in self._facts:
                 state |= 1 << self._facts[fact]
+        state = self.truth.axioms.close(state)  # derived facts as the truth model derives them
         planned = {planned_key(o): i for i, o in enumerate(node["outcomes"])}
         out = []
         for s in action.outcomes(state):

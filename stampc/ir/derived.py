@@ -12,11 +12,16 @@ over the other predicates (docs/ir.md, "Derived and symmetric predicates"):
 - **recursive** derived predicates (a strongly connected group of the dependency graph)
   whose definitions read only facts no action changes are evaluated once, to a
   fixpoint over the initial state, and become static predicates with those facts in
-  ``init``. Recursion through a fluent (a fact some action changes) would need the
-  fixpoint in every state; it is reported as G122 (write it non-recursively, e.g. a
-  bounded number of steps, or make the facts it reads static).
+  ``init``;
+- a recursive group that reads a fluent (a fact some action changes, or a derived
+  predicate kept this way) needs the fixpoint in every state: its axioms stay in
+  ``Domain.axioms`` (bodies with the non-recursive definitions substituted, lower
+  strata first) and grounding turns them into a ground axiom program
+  (:mod:`stampc.ir.axioms`) that closes every state.
 
-Recursion must be stratified: a cycle through a negation is G121.
+Recursion must be stratified: a cycle through a negation is G121. An action effect on a
+derived predicate is G122 (the code used to report recursion over a fluent, which is
+now supported).
 """
 
 from __future__ import annotations
@@ -73,6 +78,12 @@ def _mirror(e: L.Effect, symmetric: set[str]) -> L.Effect:
 
 
 # ------------------------------------------------------------------- axioms
+def stratify(model: L.Model) -> list[list[str]]:
+    """The derived predicates of ``model`` in strata, dependencies first (for a model
+    :func:`compile_derived` already checked, so no diagnostics)."""
+    return _strata(_merged(model, []), model, [])
+
+
 def _merged(model: L.Model, diags: list[Diagnostic]) -> dict[str, L.Axiom]:
     """One axiom per derived predicate (several rules: their disjunction), over the
     predicate's own parameter names."""
@@ -97,10 +108,12 @@ def _merged(model: L.Model, diags: list[Diagnostic]) -> dict[str, L.Axiom]:
 def _expand_axioms(model: L.Model) -> L.Model:
     diags: list[Diagnostic] = []
     axioms = _merged(model, diags)
+    _check_not_written(model, axioms, diags)
     changed = _changed_predicates(model.domain.actions)
     defs: dict[str, L.Axiom] = {}          # non-recursive: substituted
     static_facts: set[Key] = {(a.predicate, tuple(t.name for t in a.args)) for a in model.problem.init}
     closed: set[str] = set()               # recursive: evaluated to static facts
+    kept: list[L.Axiom] = []               # recursive over fluents: kept, by strata
     fresh = count()
     for group in _strata(axioms, model, diags):
         if len(group) == 1 and group[0] not in _reads(axioms[group[0]].body):
@@ -108,29 +121,41 @@ def _expand_axioms(model: L.Model) -> L.Model:
             defs[name] = replace(axioms[name], body=_substitute(axioms[name].body, defs, fresh))
             continue
         bodies = {n: _substitute(axioms[n].body, defs, fresh) for n in group}
-        fluent = sorted({p for b in bodies.values() for p in _reads(b)} & changed)
-        if fluent:
-            diags.append(error("G122", f"recursive derived predicate '{group[0]}' reads '{fluent[0]}', "
-                               "which actions change: grounding evaluates recursive definitions once, "
-                               "over the initial state", located(axioms[group[0]].span, model),
-                               "define it without recursion (e.g. a bounded number of steps) or from "
-                               "facts no action changes"))
+        if {p for b in bodies.values() for p in _reads(b)} & changed:
+            # recursion through a fluent: a per-state fixpoint, kept as axioms for
+            # grounding (stampc.ir.axioms); lower strata stay ahead of it in ``kept``
+            kept.extend(replace(axioms[n], body=bodies[n]) for n in group)
+            changed.update(group)
             continue
         static_facts |= _fixpoint(bodies, axioms, model, static_facts)
         closed.update(group)
     if diags:
         raise StampcError(diags)
-    return _rewrite(model, defs, closed, static_facts, fresh)
+    return _rewrite(model, defs, closed, static_facts, fresh, tuple(kept))
+
+
+def _check_not_written(model: L.Model, axioms: dict[str, L.Axiom],
+                       diags: list[Diagnostic]) -> None:
+    """G122: an effect on a derived predicate (stamp reports E311 earlier; PPDDL's
+    ``:derived`` section does not stop an action from writing the predicate)."""
+    for action in model.domain.actions:
+        written = sorted(_changed_predicates((action,)) & set(axioms))
+        if written:
+            diags.append(error("G122", f"action '{action.name}' writes derived predicate "
+                               f"'{written[0]}'", located(action.span, model),
+                               "derived facts follow from their axioms in every state; "
+                               "change the facts the definition reads instead"))
 
 
 def _rewrite(model: L.Model, defs: dict[str, L.Axiom], closed: set[str], facts: set[Key],
-             fresh: Iterator[int]) -> L.Model:
+             fresh: Iterator[int], kept: tuple[L.Axiom, ...]) -> L.Model:
     sub = lambda f: _substitute(f, defs, fresh)  # noqa: E731
     actions = tuple(replace(a, precondition=sub(a.precondition), effect=_effect_conditions(a.effect, sub))
                     for a in model.domain.actions)
-    predicates = tuple(replace(p, derived=False, static=p.static or p.name in closed)
+    recursive = {ax.predicate for ax in kept}
+    predicates = tuple(replace(p, derived=p.name in recursive, static=p.static or p.name in closed)
                        for p in model.domain.predicates if p.name not in defs)
-    domain = replace(model.domain, actions=actions, predicates=predicates, axioms=())
+    domain = replace(model.domain, actions=actions, predicates=predicates, axioms=kept)
     init = model.problem.init + tuple(L.Atom(p, tuple(L.Const(x) for x in args))
                                       for p, args in sorted(facts) if p in closed)
     problem = replace(model.problem, init=init, goal=sub(model.problem.goal))

@@ -17,11 +17,12 @@ from __future__ import annotations
 
 from stampc.ir import lifted as L
 from stampc.gcpause import no_gc_pauses
+from stampc.ir.axioms import ground_axioms
 from stampc.ir.derived import compile_derived
 from stampc.ir.ground_checks import ADD_WINS, DELETE_WINS, check_rule, effect_conflicts, \
     grounding_warnings
 from stampc.ir.ground_context import AtomKey, GroundingContext
-from stampc.ir.grounded import GroundAction, GroundAtom, GroundModel
+from stampc.ir.grounded import AxiomProgram, GroundAction, GroundAtom, GroundModel
 from stampc.ir.instantiate import ActionInstance, EffectGrounder, instantiate
 from stampc.ir.reachability import (DEFAULT_MAX_ACTIONS, DEFAULT_MAX_SYMBOL_DEPTH, Reachable,
                                     explore)
@@ -63,12 +64,13 @@ def _ground(model: L.Model, max_symbol_depth: int, max_actions: int,
         table = FactTable(sorted(fluents), ctx)
         simp = Simplifier(ctx, reach.static, table, scopes)
         instances = _instantiate_all(ctx, reach, simp)
+        axioms = ground_axioms(model, simp, table)
         simp.span = model.problem.span or simp.span
         goal = simp.condition(model.problem.goal, {})
         if not table.missing:
             break
         fluents |= table.missing
-    return _assemble(model, ctx, reach, table, instances, goal, conflicting_effects)
+    return _assemble(model, ctx, reach, table, instances, goal, conflicting_effects, axioms)
 
 
 def _instantiate_all(ctx: GroundingContext, reach: Reachable,
@@ -85,7 +87,8 @@ def _instantiate_all(ctx: GroundingContext, reach: Reachable,
 
 
 def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: FactTable,
-              instances: list[ActionInstance], goal, rule: str) -> GroundModel:
+              instances: list[ActionInstance], goal, rule: str,
+              axioms: AxiomProgram) -> GroundModel:
     init = 0
     for atom in model.problem.init:
         i = table.index.get((atom.predicate, tuple(t.name for t in atom.args)))
@@ -94,6 +97,7 @@ def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: Fa
     for i, (pred, _) in enumerate(table.facts):
         if pred in ctx.optimistic_true:
             init |= 1 << i  # unknowable facts start at their optimistic value
+    init = axioms.close(init)
     conflicts: dict[int, tuple[GroundAction, int]] = {}
     actions = []
     for k, a in enumerate(instances):
@@ -117,4 +121,5 @@ def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: Fa
         has_costs=ctx.costs.has_costs,
         lifted=model,
         diagnostics=tuple(grounding_warnings(model, tuple(actions), conflicts, facts, rule)),
+        axioms=axioms,
     )

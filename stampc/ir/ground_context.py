@@ -107,8 +107,10 @@ class GroundingContext:
                 touched.add(atom.predicate)
                 if is_unknown:
                     unknown_marked.add(atom.predicate)
+        #: derived predicates kept as axioms (recursive over fluents): per-state facts
+        self.derived: frozenset[str] = frozenset(ax.predicate for ax in domain.axioms)
         #: predicates no effect touches: evaluated at grounding time and compiled away
-        self.static: frozenset[str] = frozenset(set(self.predicates) - touched)
+        self.static: frozenset[str] = frozenset(set(self.predicates) - touched - self.derived)
         self.unknowable: frozenset[str] = frozenset(
             unknown_marked | {p.name for p in domain.predicates if p.unknowable})
         #: unknowable predicates whose facts the abstraction assumes true

@@ -193,9 +193,72 @@ class GroundAction:
                 outcome_distribution(self, 0) if self.effect.state_independent else None)
         return self._cache["static"]
 
-    def outcomes(self, state: int) -> tuple[Successor, ...]:
+    def basic_outcomes(self, state: int) -> tuple[Successor, ...]:
+        """Joint outcomes in ``state`` as the effects write them (derived facts untouched)."""
         cached = self.static_outcomes()
         return cached if cached is not None else outcome_distribution(self, state)
+
+    def outcomes(self, state: int) -> tuple[Successor, ...]:
+        """Joint outcomes in ``state``; with axioms, each one's masks also update the
+        derived facts (the successor is closed), aligned with :meth:`basic_outcomes`."""
+        outs = self.basic_outcomes(state)
+        axioms = self._cache.get("axioms")
+        return outs if axioms is None else tuple(_closed(o, state, axioms) for o in outs)
+
+
+# ------------------------------------------------------ derived facts
+@dataclass(frozen=True)
+class GroundAxiom:
+    """``head`` (a derived fact's index) holds whenever ``body`` does."""
+
+    head: int
+    body: GroundCondition
+    stratum: int = 0
+
+
+@dataclass(frozen=True)
+class AxiomProgram:
+    """Ground axioms sorted by stratum, and the mask of all derived facts."""
+
+    rules: tuple[GroundAxiom, ...] = ()
+    derived: int = 0
+    _strata: list = field(default_factory=list, compare=False, hash=False, repr=False)
+
+    def __bool__(self) -> bool:
+        return bool(self.derived)
+
+    def strata(self) -> list[tuple[GroundAxiom, ...]]:
+        if not self._strata and self.rules:
+            groups: dict[int, list[GroundAxiom]] = {}
+            for rule in self.rules:
+                groups.setdefault(rule.stratum, []).append(rule)
+            self._strata.extend(tuple(groups[k]) for k in sorted(groups))
+        return self._strata
+
+    def close(self, state: int) -> int:
+        """``state`` with its derived facts recomputed from its basic facts."""
+        if not self.derived:
+            return state
+        state &= ~self.derived
+        for rules in self.strata():
+            pending = [r for r in rules if not r.body.never]
+            fired = True
+            while fired:  # naive iteration: a rule fires once its body holds
+                fired = False
+                waiting = []
+                for rule in pending:
+                    if (state >> rule.head) & 1:
+                        continue
+                    if rule.body.holds(state):
+                        state |= 1 << rule.head
+                        fired = True
+                    else:
+                        waiting.append(rule)
+                pending = waiting
+        return state
+
+
+NO_AXIOMS = AxiomProgram()
 
 
 @dataclass(frozen=True)
@@ -213,7 +276,16 @@ class GroundModel:
     lifted: Model | None = field(default=None, compare=False, hash=False, repr=False)
     #: Grounding warnings (G201 no actions, G202 all costs 0, G203 conflicting effects).
     diagnostics: tuple = field(default=(), compare=False, hash=False, repr=False)
+    #: Axioms deriving the derived facts of every state (empty: no derived facts).
+    axioms: AxiomProgram = NO_AXIOMS
     _index: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
+
+    def __post_init__(self) -> None:
+        # Successors are closed under the axioms where they are made, in
+        # GroundAction.outcomes: each action learns its model's program here.
+        if self.axioms:
+            for action in self.actions:
+                action._cache["axioms"] = self.axioms
 
     def fact_index(self, atom: GroundAtom) -> int:
         if not self._index:
@@ -239,6 +311,11 @@ class GroundModel:
 
 
 # ------------------------------------------------------------- semantics
+def _closed(o: Successor, state: int, axioms: AxiomProgram) -> Successor:
+    after = axioms.close(o.apply(state))
+    return Successor(o.probability, after & ~state, state & ~after, o.cost, o.unknown)
+
+
 def _effect_branches(eff: GEffect, state: int) -> list[tuple[Fraction, int, int, Fraction, int]]:
     """All joint outcomes of ``eff`` in ``state`` as (p, add, del, cost, unknown)."""
     add, delete, cost, unknown = eff.add, eff.delete, eff.cost, eff.unknown

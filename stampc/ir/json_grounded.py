@@ -16,8 +16,8 @@ from operator import is_
 from typing import Any, Callable, Sequence
 
 from stampc.ir.grounded import (
-    GAnd, GEffect, GLit, GOr, GProb, GroundAction, GroundAtom, GroundCondition,
-    GroundGeneratorUse, GroundModel)
+    NO_AXIOMS, AxiomProgram, GAnd, GEffect, GLit, GOr, GProb, GroundAction, GroundAtom,
+    GroundAxiom, GroundCondition, GroundGeneratorUse, GroundModel)
 from stampc.ir.json_lifted import J, frac_from, frac_to
 from stampc.ir.json_model import Write, compact, write_items
 
@@ -240,8 +240,13 @@ def write_grounded(gm: GroundModel, header: J, write: Write,
     nodes = NodeWriter(emit)
     refs = [(nodes.intern(a.precondition), nodes.intern(a.effect)) for a in gm.actions]
     goal = nodes.intern(gm.goal)
+    bodies = [nodes.intern(r.body) for r in gm.axioms.rules]
     write('],\n"actions":')
     write_items(write, (_action_to(a, p, e) for a, (p, e) in zip(gm.actions, refs)))
+    if gm.axioms:  # 2.2: derived facts and their ground axioms (docs/ir.md)
+        write(',\n"derived":' + compact(bits_to_list(gm.axioms.derived)) + ',\n"axioms":')
+        write_items(write, (compact([r.head, b, r.stratum])
+                            for r, b in zip(gm.axioms.rules, bodies)))
     write(',\n"init":' + compact(bits_to_list(gm.init)) + ',\n"goal":' + str(goal) +
           ',\n"horizon":' + compact(gm.horizon) + ',"has_costs":' + compact(gm.has_costs) +
           ',\n"lifted":')
@@ -365,4 +370,21 @@ def read_grounded(data: J, lifted: Any) -> GroundModel:
         goal=nodes.get(data["goal"], GroundCondition),
         objects=tuple((str(n), str(t)) for n, t in data["objects"]),
         static_facts=tuple(_atom_from(f) for f in data.get("static_facts", [])),
-        horizon=horizon, has_costs=bool(data.get("has_costs", False)), lifted=lifted)
+        horizon=horizon, has_costs=bool(data.get("has_costs", False)), lifted=lifted,
+        axioms=_axioms_from(data, len(facts), nodes))
+
+
+def _axioms_from(data: J, n_facts: int, nodes: NodeReader) -> AxiomProgram:
+    if "derived" not in data:
+        return NO_AXIOMS
+    derived = list_to_bits(data["derived"], n_facts)
+    rules = []
+    for head, body, stratum in (_list(r) for r in _list(data.get("axioms", []))):
+        if isinstance(head, bool) or not isinstance(head, int) or not (derived >> head) & 1:
+            raise ValueError(f"axiom head {head!r} is not a derived fact")
+        if isinstance(stratum, bool) or not isinstance(stratum, int) or stratum < 0:
+            raise ValueError(f"invalid axiom stratum {stratum!r}")
+        rules.append(GroundAxiom(head, nodes.get(body, GroundCondition), stratum))
+    if [r.stratum for r in rules] != sorted(r.stratum for r in rules):
+        raise ValueError("axioms must be listed by stratum")
+    return AxiomProgram(tuple(rules), derived)

@@ -30,7 +30,8 @@ __all__ = ["lifted_to_json", "lifted_from_json", "grounded_to_json", "grounded_f
            "bits_to_list", "list_to_bits"]
 
 T = TypeVar("T")
-V2_0 = "2.0"  # 2.1 only added optional fields (symmetric/derived predicates, axioms)
+V2_0 = "2.0"  # 2.1 and 2.2 only added optional fields (docs/ir.md, "Format versions")
+V2_1 = "2.1"
 
 def _check_header(data: Any, kind: str, source: str) -> Any:
     """``data`` as a current document of ``kind`` (1.0 documents are upgraded)."""
@@ -39,10 +40,10 @@ def _check_header(data: Any, kind: str, source: str) -> Any:
         raise StampcError([error("G192", f"expected a JSON object for the {kind} IR, "
                                  f"got {type(data).__name__}", span)])
     version = data.get("ir_version")
-    if version not in (L.IR_VERSION, V2_0, V1):
+    if version not in (L.IR_VERSION, V2_1, V2_0, V1):
         raise StampcError([error(
             "G190", f"unsupported IR version {version!r} (this stampc reads "
-            f"{L.IR_VERSION!r}, {V2_0!r} and {V1!r})", span,
+            f"{L.IR_VERSION!r}, {V2_1!r}, {V2_0!r} and {V1!r})", span,
             "recompile the source with `stampc compile --target ir` "
             "(docs/ir.md, 'Format versions')")])
     if data.get("kind") != kind:

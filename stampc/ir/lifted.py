@@ -22,7 +22,7 @@ from typing import Union
 
 from stampc.diagnostics import Span
 
-IR_VERSION = "2.1"
+IR_VERSION = "2.2"
 
 
 # ------------------------------------------------------------------ terms

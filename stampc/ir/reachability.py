@@ -20,7 +20,7 @@ from stampc.diagnostics import StampcError, error
 from stampc.ir import lifted as L
 from stampc.ir.datalog import FactBase, fixpoint
 from stampc.ir.ground_context import AtomKey, GroundingContext, located
-from stampc.ir.relax import Rule, act_rel, action_rules, effect_rules, type_rel
+from stampc.ir.relax import Rule, act_rel, action_rules, axiom_rules, effect_rules, type_rel
 
 DEFAULT_MAX_SYMBOL_DEPTH = 3
 #: Reachable action bindings allowed before grounding gives up (G114) instead of
@@ -142,6 +142,8 @@ def explore(ctx: GroundingContext, max_symbol_depth: int = DEFAULT_MAX_SYMBOL_DE
     for schema in range(len(ctx.actions)):
         rules.extend(action_rules(ctx, schema))
         rules.extend(effect_rules(ctx, schema))
+    for axiom in ctx.model.domain.axioms:
+        rules.extend(axiom_rules(ctx, axiom))
     fixpoint(explorer.kb, rules, explorer.static_holds, explorer.on_head)
     result = Reachable(symbols=explorer.symbols)
     for rel, tuples in explorer.kb.rels.items():

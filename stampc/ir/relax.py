@@ -205,3 +205,12 @@ def _walk_effect(comp: _Compiler, e: L.Effect, path: list[Body], rename: dict[st
         for outcome in e.outcomes:
             if outcome.probability > 0:
                 _walk_effect(comp, outcome.effect, path, rename, out)
+
+
+def axiom_rules(ctx: GroundingContext, axiom: L.Axiom) -> list[Rule]:
+    """Rules deriving the derived atoms a kept axiom can make true (its body relaxed
+    like a precondition: negated fluent and derived atoms count as satisfiable)."""
+    comp = _Compiler(ctx, frozenset())
+    types = tuple(Pattern(type_rel(p.type), ((True, p.name),)) for p in axiom.params)
+    head = tuple((True, p.name) for p in axiom.params)
+    return [_rule(axiom.predicate, head, body, types) for body in comp.dnf(axiom.body, True, {})]

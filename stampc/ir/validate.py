@@ -174,6 +174,13 @@ class _Checker:
                 self.check_num(action.cost, scope, what, action.span)
             self.check_generator_uses(action, what)
 
+    def check_axioms(self) -> None:
+        # only the recursive-over-fluents axioms reach here (the rest are compiled away)
+        for axiom in self.model.domain.axioms:
+            what = f"derived predicate '{axiom.predicate}'"
+            self.check_params(axiom.params, what, axiom.span)
+            self.check_formula(axiom.body, {p.name for p in axiom.params}, what, axiom.span)
+
     def check_generators(self) -> None:
         for gen in self.model.domain.generators:
             what = f"generator '{gen.name}'"
@@ -203,6 +210,7 @@ def validate_model(model: L.Model) -> None:
     checker.check_objects()
     checker.check_predicates()
     checker.check_actions()
+    checker.check_axioms()
     checker.check_generators()
     checker.check_problem()
     if has_errors(checker.diags):

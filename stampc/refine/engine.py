@@ -366,6 +366,7 @@ class Engine:
         state = target.state
         for fact, value in learned:
             state = state | (1 << fact) if value else state & ~(1 << fact)
+        state = self.model.axioms.close(state)  # derived facts follow the learned ones
         forced = None
         if kind == "explore" or self.rng.random() < self.options.explore_probability:
             forced = self.planner.random_action(state, self.rng, exclude=node.action)

@@ -15,14 +15,15 @@ _Branch = tuple[Fraction, int, int, Fraction, int, tuple[str, ...]]
 
 
 def outcome_labels(action: GroundAction, state: int) -> tuple[tuple[str, ...], ...]:
-    """Labels of each joint outcome, aligned with ``action.outcomes(state)``."""
+    """Labels of each joint outcome, aligned with ``action.outcomes(state)`` (matched on
+    the effects' own masks: closing under axioms keeps the order, not the masks)."""
     merged: dict[tuple[int, int, Fraction, int], list[str]] = {}
     for _, a, d, c, u, names in _branches(action.effect, state):
         labels = merged.setdefault((a, d & ~a, c, u), [])
         labels.extend(n for n in names if n not in labels)
     by_key = {key: tuple(names) for key, names in merged.items()}
     return tuple(by_key.get((o.add, o.delete, o.cost - action.base_cost, o.unknown), ())
-                 for o in action.outcomes(state))
+                 for o in action.basic_outcomes(state))
 
 
 def _branches(eff: GEffect, state: int) -> list[_Branch]:

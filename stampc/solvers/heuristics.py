@@ -8,6 +8,9 @@ facts of their own (fact ``i`` false is relaxed fact ``n + i``: reached initiall
 that nothing can delete is recognised as unreachable — e.g. ``not crushed(target)`` after
 the target was crushed, or ``not collision(x, t)`` with no action that moves ``x``.
 Disjunctions contribute nothing — which, like the relaxation itself, only lowers costs.
+Ground axioms (derived facts, docs/ir.md) are zero-cost relaxed actions, body -> head;
+a derived fact's *falsity* costs nothing (it needs some body literal of every rule of
+the fact to fail, a disjunction the relaxation drops), so bounds stay admissible.
 
 - ``zero``: 0 everywhere (admissible).
 - ``hmax``: max over preconditions (admissible when costs are non-negative).
@@ -85,6 +88,18 @@ def _relaxed_adds(effect: GEffect, pre: frozenset[int], out: dict, n: int) -> No
             _relaxed_adds(sub, pre, out, n)
 
 
+def relaxed_axioms(model: GroundModel, n: int) -> dict[frozenset[int], int]:
+    """Zero-cost relaxed actions of the model's axioms: precondition literals -> added
+    literals (a rule's head; and, unconditionally, every derived fact being false)."""
+    out: dict[frozenset[int], int] = {}
+    for rule in model.axioms.rules:
+        pre = condition_facts(rule.body, n)
+        out[pre] = out.get(pre, 0) | (1 << rule.head)
+    if model.axioms.derived:
+        out[frozenset()] = out.get(frozenset(), 0) | (model.axioms.derived << n)
+    return out
+
+
 class RelaxedModel:
     """Relaxed actions in flat arrays: preconditions, adds, costs, and fact -> actions."""
 
@@ -107,6 +122,8 @@ class RelaxedModel:
             for pre, add in pairs.items():
                 key = (pre, cost)
                 merged[key] = merged.get(key, 0) | add
+        for pre, add in relaxed_axioms(model, n).items():
+            merged[(pre, 0.0)] = merged.get((pre, 0.0), 0) | add
         pres = [tuple(sorted(pre)) for pre, _ in merged]
         costs = [cost for _, cost in merged]
         adds = [tuple(iter_bits(add)) for add in merged.values()]

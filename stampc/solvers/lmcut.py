@@ -22,7 +22,7 @@ import math
 
 from stampc.ir.grounded import GEffect, GroundModel
 from stampc.solvers.heuristics import (Heuristic, _min_cost, condition_facts, iter_bits,
-                                      make_heuristic, relaxed_state)
+                                      make_heuristic, relaxed_axioms, relaxed_state)
 
 _ZERO = 1e-12  # costs below this count as zero (float leftovers of subtractions)
 
@@ -62,6 +62,8 @@ def relaxed_actions(model: GroundModel, unit_cost: bool) -> dict[tuple[frozenset
         for piece_pre, add in pieces.items():
             key = (piece_pre, cost if piece_pre == pre else 0.0)
             merged[key] = merged.get(key, 0) | add
+    for pre, add in relaxed_axioms(model, n).items():  # axioms: zero-cost relaxed actions
+        merged[(pre, 0.0)] = merged.get((pre, 0.0), 0) | add
     return merged
 
 

@@ -52,6 +52,9 @@ class SuccessorCache:
         self._trans: dict[int, tuple[Transition, ...]] = {}
         self._trans_raw: dict[int, tuple[Transition, ...]] = {}
         self._goal: dict[int, bool] = {}
+        # Derived facts (docs/ir.md, "Derived and symmetric predicates"): every next
+        # state is closed under the model's axioms before anyone sees it.
+        self._close = model.axioms.close if model.axioms else None
 
     # ------------------------------------------------------------ building
     def _float_static(self, action: GroundAction):
@@ -130,6 +133,9 @@ class SuccessorCache:
         if static is _UNSET:
             static = self._static_of(action)
         if static is not None:
+            close = self._close
+            if close is not None:
+                return tuple((p, close((state & keep) | add), c) for p, add, keep, c in static)
             return tuple((p, (state & keep) | add, c) for p, add, keep, c in static)
         unit = self.unit_cost
         return tuple((float(o.probability), o.apply(state), 1.0 if unit else float(o.cost))
@@ -159,6 +165,11 @@ class SuccessorCache:
     def _float_outcomes(self, state: int, action: int):
         """Like :meth:`outcomes` but with float arithmetic for conditional effects (not
         necessarily in the model's outcome order; solvers merge by next state anyway)."""
+        outs = self._float_basic_outcomes(state, action)
+        close = self._close
+        return outs if close is None else [(p, close(nxt), c) for p, nxt, c in outs]
+
+    def _float_basic_outcomes(self, state: int, action: int):
         static = self._static[action]
         if static is _UNSET:
             static = self._static_of(action)

@@ -116,19 +116,26 @@ goal done
     assert not any(f.predicate == "link" for f in gm.state_facts(outcome.apply(gm.init)))
 
 
-def test_recursion_over_a_fluent_is_reported() -> None:
+def test_recursion_over_a_fluent_is_evaluated_in_every_state() -> None:
     text = GRID.replace("adjacent(a, b) or exists (c: cell) (adjacent(a, c) and linked(c, b))",
                         "painted(a) or exists (c: cell) (adjacent(a, c) and linked(c, b))")
-    with pytest.raises(StampcError) as info:
-        stampc.ground(lower(load(text)))
-    assert [d.code for d in info.value.diagnostics] == ["G122"]
+    gm = stampc.ground(lower(load(text)))
+    assert gm.axioms and not any(f.predicate == "linked" for f in gm.state_facts(gm.init))
+    paint = next(a for a in gm.actions if a.name == "paint" and a.args == ("r1", "cell_0_0"))
+    [outcome] = paint.outcomes(gm.init)
+    after = gm.state_facts(outcome.apply(gm.init))
+    linked = {f.args for f in after if f.predicate == "linked"}
+    # painted(cell_0_0) links it to every cell, and through the (connected) adjacency
+    # every cell to every cell; before the paint, nothing was linked
+    assert ("cell_0_0", "cell_2_1") in linked and ("cell_1_0", "cell_0_0") in linked
+    assert len(linked) == 6 * 6
 
 
 def test_ir_json_keeps_axioms_and_flags() -> None:
     model = lower(load(GRID))
     assert model.domain.axioms and any(p.symmetric for p in model.domain.predicates)
     data = lifted_to_json(model)
-    assert data["ir_version"] == L.IR_VERSION == "2.1"
+    assert data["ir_version"] == L.IR_VERSION == "2.2"
     assert lifted_from_json(data) == model
     data["ir_version"] = "2.0"  # older documents load (without the new fields)
     for p in data["domain"]["predicates"]:

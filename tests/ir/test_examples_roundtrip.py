@@ -70,7 +70,7 @@ def test_compile_command_streams_ir_files_that_load_back(tmp_path):
     assert read_ir_json(tmp_path / "lifted.json") == model
     grounded = read_ir_json(tmp_path / "grounded.json")
     assert grounded == stampc.ground(model) and grounded.lifted == model
-    assert json.loads((tmp_path / "grounded.json").read_text())["ir_version"] == "2.1"
+    assert json.loads((tmp_path / "grounded.json").read_text())["ir_version"] == "2.2"
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -9,6 +9,12 @@ from stampc.ir.grounded import GroundModel
 def reachable_fact_sets(gm: GroundModel, keep: set[str]) -> set[frozenset[str]]:
     """Every state reachable from ``gm.init`` (goal states expanded too), as the set of
     its facts whose predicate is in ``keep``."""
+    return {frozenset(str(f) for f in gm.state_facts(s) if f.predicate in keep)
+            for s in reachable_states(gm)}
+
+
+def reachable_states(gm: GroundModel) -> set[int]:
+    """Every state reachable from ``gm.init`` through ``GroundAction.outcomes``."""
     seen, stack = {gm.init}, [gm.init]
     while stack:
         s = stack.pop()
@@ -19,4 +25,4 @@ def reachable_fact_sets(gm: GroundModel, keep: set[str]) -> set[frozenset[str]]:
                     if n not in seen:
                         seen.add(n)
                         stack.append(n)
-    return {frozenset(str(f) for f in gm.state_facts(s) if f.predicate in keep) for s in seen}
+    return seen
