@@ -54,6 +54,8 @@ def _arm_hits(world: Any, traj: Any) -> set[str]:
     from stampc.worlds.pybullet.planning import PLAN_RESOLUTION, bad_bodies, stretches
     from stampc.worlds.pybullet.values import interpolate
 
+    if traj.robot is not None and traj.robot in world.arms:
+        world.select(traj.robot)  # the arm that follows it (two-arm Keva), not the last one
     state = world.state
     hit: set[int] = set()
     try:
