@@ -9,12 +9,18 @@ Three steps, each a `stampc` command (run from the repository root):
 2. refine the abstract policy with concrete grasps and motions, anytime, showing a live
    coverage bar on a terminal (`stampc refine --world pybullet`);
 3. replay the refined policy 20 times with sampled outcomes (crushed cans included) and
-   render the first run to PNG frames and a GIF (`stampc execute --render`).
+   render the first run to PNG frames and a GIF (`stampc execute --render`);
+4. a crushed can discarded into the tray: the paper's scene rarely puts a can in the
+   target's way (the default one never does, so nothing is ever discarded there), so the
+   fixed-base scene (`domain_fixed.stamp`, `problem_fixed.stamp`: a delicate can in front
+   of the target, a tray beside the table) is refined and the first seed (from 1) whose
+   run crushes and discards a can is rendered — the demo says which seed it took.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import subprocess
 import sys
 import time
@@ -69,13 +75,43 @@ def main(argv: list[str] | None = None) -> int:
     code = _step("3. execute the refined policy, rendering the first run",
                  ["execute", str(policy_dir / "policy.json"), "--runs", str(args.runs),
                   "--seed", "1", "--render", str(render_dir)])
+    discard = _discard_run(out / "tray", args.time_limit)
     print(f"""
 outputs:
   problem       {problem}
   IR / PPDDL    {out / 'ir'}, {out / 'ppddl'}
   policy        {policy_dir / 'policy.json'} (+ policy.svg, coverage.png, summary.json)
-  animation     {render_dir / 'run.gif'} (frames: {render_dir}/frame_*.png)""")
+  animation     {render_dir / 'run.gif'} (frames: {render_dir}/frame_*.png)
+  discard       {discard}""")
     return code
+
+
+def _discard_run(out: Path, time_limit: float, seeds: range = range(1, 41)) -> str:
+    """Step 4: refine the fixed-base scene with its tray, find the first seed whose run
+    crushes a can and discards it (one run per seed, the world sampling outcomes), and
+    render that run. Returns where the animation is (or why there is none)."""
+    files = [str(EXAMPLE.relative_to(ROOT) / n) for n in ("domain_fixed.stamp",
+                                                           "problem_fixed.stamp")]
+    policy = out / "policy" / "policy.json"
+    _step("4. a crushed can discarded into the tray: refine the fixed-base scene",
+          ["refine", *files, "--world", "pybullet", "--seed", "0", "--quiet",
+           "--time-limit", str(time_limit), "-o", str(policy.parent)])
+    if not policy.is_file():
+        return "none (the fixed-base scene was not refined)"
+    for seed in seeds:
+        report = subprocess.run([sys.executable, "-m", "stampc", "execute", str(policy),
+                                 "--runs", "1", "--seed", str(seed), "--format", "json"],
+                                cwd=ROOT, capture_output=True, text=True)
+        if report.stdout and "discard" in json.loads(report.stdout).get("outcomes", {}):
+            break
+    else:
+        return f"none (no run with seeds {seeds.start}..{seeds.stop - 1} crushed a can)"
+    print(f"\nseed {seed} is the first seed from {seeds.start} whose run crushes a can and "
+          "discards it into the tray; rendering that run", flush=True)
+    _step("4b. execute that run, rendering it",
+          ["execute", str(policy), "--runs", "1", "--seed", str(seed),
+           "--render", str(out / "render")])
+    return f"{out / 'render' / 'run.gif'} (seed {seed}: a crushed can lands in the tray)"
 
 
 if __name__ == "__main__":

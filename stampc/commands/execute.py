@@ -28,6 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-physics", action="store_true",
                         help="PyBullet: leave objects where executors put them (no settling "
                              "under gravity)")
+    parser.add_argument("--no-memo", action="store_true",
+                        help="simulate every step of every run, even one already computed "
+                             "from the same concrete state (slower; same report)")
     parser.add_argument("--format", choices=("text", "json"), default="text")
     parser.add_argument("--verbose", action="store_true")
 
@@ -41,7 +44,8 @@ def run(args: argparse.Namespace) -> int:
     recorder = Recorder(Path(args.render)) if args.render else None
     report = execute_file(Path(args.policy), runs=args.runs, seed=args.seed,
                           max_steps=args.max_steps, truth=args.truth, verbose=args.verbose,
-                          physics=not args.no_physics, recorder=recorder)
+                          physics=not args.no_physics, recorder=recorder,
+                          memo=not args.no_memo)
     print(report.render(args.format))
     if recorder:
         written = recorder.finish()

@@ -13,6 +13,9 @@ problem); otherwise the world's default applies:
   (lifted at least :data:`LIFT` m, off every surface);
   ``filled(s)`` with ``meta.slots``: a plank lies within :data:`SLOT_POS_TOL` m and
   :data:`SLOT_ANGLE_TOL` rad of the slot's pose (up to the box's symmetry);
+  with ``meta.roles`` (Keva): every role a goal fact names has a plank within the same
+  tolerances of the role's pose (an upright role also turned a quarter about the
+  plank's long axis, as the Keva put-down may stand it);
   every object lying tilted more than 45° from how it stood (a toppled domino) has
   ``notified(o)`` in the leaf state, when the domain has a ``notified`` predicate;
   a ``notified`` goal (aircraft): exactly one part was found faulty, one of
@@ -75,13 +78,17 @@ def plane2d_goal(world: Any, leaf: Mapping[str, Any]) -> list[str]:
 
 # ------------------------------------------------------------------ PyBullet
 def pybullet_goal(world: Any, leaf: Mapping[str, Any]) -> list[str]:
+    from stampc.worlds.pybullet.values import as_pose
+
     reasons: list[str] = []
     state = set(leaf.get("state", ()))
     for pred, args in _facts(leaf):
         if pred == "holding" and len(args) == 1:
             reasons += _held_and_lifted(world, args[0])
         elif pred == "filled" and len(args) == 1 and "slots" in world.spec.meta:
-            reasons += _slot_filled(world, args[0])
+            reasons += _pose_filled(world, f"slot {args[0]}",
+                                    (as_pose(world.spec.meta["slots"][args[0]]),))
+    reasons += _roles_filled(world, leaf)
     if any(f.startswith("notified(") for f in state) or "toppled" in str(leaf.get("state")):
         reasons += _toppled_notified(world, state)
     if "notified" in {pred for pred, _ in _facts(leaf)}:
@@ -130,22 +137,40 @@ def _body_pose(world: Any, name: str) -> tuple[float, ...]:
     return tuple(pos)
 
 
-def _slot_filled(world: Any, slot: str) -> list[str]:
-    from stampc.worlds.pybullet.values import Pose, as_pose
+def _roles_filled(world: Any, leaf: Mapping[str, Any]) -> list[str]:
+    """Keva: each role named first by a goal fact (``on_table(r)``, ``on(r, j)``,
+    ``oriented(r, o)``) holds a plank at the structure's pose for it."""
+    from stampc.worlds.pybullet.keva import UPRIGHT_TURNS
+    from stampc.worlds.pybullet.values import as_pose
 
-    target = as_pose(world.spec.meta["slots"][slot])
+    roles = world.spec.meta.get("roles")
+    if not isinstance(roles, Mapping):
+        return []
+    reasons = []
+    for r in dict.fromkeys(args[0] for _, args in _facts(leaf) if args and args[0] in roles):
+        target = as_pose(roles[r]["pose"])
+        turns = UPRIGHT_TURNS if roles[r].get("orientation") == "vertical" else ()
+        reasons += _pose_filled(world, f"role {r}",
+                                (target,) + tuple(target.multiply(t) for t in turns))
+    return reasons
+
+
+def _pose_filled(world: Any, what: str, targets: tuple[Any, ...]) -> list[str]:
+    """A plank lies at one of ``targets`` (up to the box's symmetry), within tolerance."""
+    from stampc.worlds.pybullet.values import Pose
+
     best = (math.inf, math.inf, "")
     for name, pose in world.state.poses:
         if name in world.state.removed or name == world.state.held:
             continue
         pose = Pose.of(*_actual(world, name))  # where the body is, not where it was put
-        d = pose.distance(target)
-        angle = min(_box_angle(pose.quat, target.quat), math.pi)
+        d = pose.distance(targets[0])
+        angle = min(min(_box_angle(pose.quat, t.quat) for t in targets), math.pi)
         if (d, angle) < best[:2]:
             best = (d, angle, name)
     d, angle, name = best
     if d > SLOT_POS_TOL or angle > SLOT_ANGLE_TOL:
-        return [f"slot {slot}: nearest plank {name or '-'} is {d * 1000:.1f} mm and "
+        return [f"{what}: nearest plank {name or '-'} is {d * 1000:.1f} mm and "
                 f"{math.degrees(angle):.1f}° off (tolerance {SLOT_POS_TOL * 1000:.0f} mm, "
                 f"{math.degrees(SLOT_ANGLE_TOL):.1f}°)"]
     return []

@@ -54,6 +54,8 @@ def _arm_hits(world: Any, traj: Any) -> set[str]:
     from stampc.worlds.pybullet.planning import PLAN_RESOLUTION, bad_bodies, stretches
     from stampc.worlds.pybullet.values import interpolate
 
+    if traj.robot is not None and traj.robot in world.arms:
+        world.select(traj.robot)  # the arm that follows it (two-arm Keva), not the last one
     state = world.state
     hit: set[int] = set()
     try:
@@ -67,28 +69,10 @@ def _arm_hits(world: Any, traj: Any) -> set[str]:
 
 
 def _flight_hits(world: Any, traj: Any) -> set[str]:
-    from stampc.worlds.pybullet._pb import p
-    from stampc.worlds.pybullet.aerial import FLY_RESOLUTION
-    from stampc.worlds.pybullet.world import PENETRATION
+    from stampc.worlds.pybullet.aerial import FLY_RESOLUTION, flight_contacts
 
-    cid, step = world.client, FLY_RESOLUTION / REFINE
-    hit: set[str] = set()
-    try:
-        for a, b in zip(traj.configs, traj.configs[1:]):
-            n = max(1, math.ceil(math.dist(a[:3], b[:3]) / step))
-            for i in range(n + 1):
-                pos = tuple(x + (y - x) * i / n for x, y in zip(a[:3], b[:3]))
-                p.resetBasePositionAndOrientation(world.uav, pos, (a if i < n / 2 else b)[3:],
-                                                  physicsClientId=cid)
-                p.performCollisionDetection(physicsClientId=cid)
-                hit |= {world.name_of.get(c[2], f"body{c[2]}")
-                        for c in p.getContactPoints(bodyA=world.uav, physicsClientId=cid)
-                        if c[8] < -PENETRATION}
-    finally:
-        uav = world.state.uav
-        if uav is not None:
-            p.resetBasePositionAndOrientation(world.uav, uav.pos, uav.quat, physicsClientId=cid)
-    return hit
+    return {world.name_of.get(b, f"body{b}")
+            for b in flight_contacts(world, traj, FLY_RESOLUTION / REFINE)}
 
 
 # ------------------------------------------------------------------ plane2d

@@ -11,6 +11,11 @@ Each run starts from the initial concrete state and, at every action node,
 
 At a goal leaf the concrete goal check (:mod:`.goals`) decides: a failed check is a
 failed run with its reason.
+
+Steps 2-3 and the goal check are deterministic functions of the concrete state, the
+node, the outcome and the node's bound values (the executor's RNG is seeded from
+``(seed, node, outcome)``), so by default they are memoised within one invocation
+(:mod:`.memo`): identical prefixes of different runs are simulated once.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ import random
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
+from stampc.execute.memo import StepMemo, StepResult
 from stampc.execute.truth import TrueOutcome, TruthModel, planned_key
 from stampc.refine.replay import DEAD_END, FAILURE, SUCCESS, UNREFINED, _decoded, concrete_action
 from stampc.refine.concretize import outcome_of
@@ -65,7 +71,11 @@ class Hooks:
 
 def execute_policy(policy: Mapping, world: Any, executors: Mapping[str, Callable],
                    truth: TruthModel, *, runs: int, seed: int, max_steps: int = 500,
-                   hooks: Hooks = Hooks()) -> tuple[Run, ...]:
+                   hooks: Hooks = Hooks(), memo: StepMemo | None = None,
+                   fresh_runs: int = 0) -> tuple[Run, ...]:
+    """``runs`` seeded runs; with ``memo``, steps and goal checks already computed from
+    the same state are replayed from it — except in the first ``fresh_runs`` runs,
+    which compute (and store) every step, e.g. for the recorder's frames."""
     nodes = {n["id"]: n for n in policy["nodes"]}
     sigmas = {n["id"]: _decoded(world, n["sigma"]) for n in policy["nodes"] if "sigma" in n}
     start_env = _decoded(world, policy.get("initial_values", {}))
@@ -77,19 +87,22 @@ def execute_policy(policy: Mapping, world: Any, executors: Mapping[str, Callable
         if hooks.on_run_start is not None:
             hooks.on_run_start(run)
         loop = _RunLoop(nodes, sigmas, dict(start_env), world, executors, truth, hooks,
-                        random.Random(rng.random()), run)
+                        random.Random(rng.random()), run, seed)
+        loop.memo, loop.replay = memo, run >= fresh_runs
         out.append(loop.go(policy["root"], max_steps))
     world.restore(initial)
     return tuple(out)
 
 
 class _RunLoop:
-    def __init__(self, nodes, sigmas, env, world, executors, truth, hooks, rng, run):
+    def __init__(self, nodes, sigmas, env, world, executors, truth, hooks, rng, run, seed):
         self.nodes, self.sigmas, self.env = nodes, sigmas, env
         self.world, self.executors, self.truth = world, executors, truth
-        self.hooks, self.rng, self.run = hooks, rng, run
+        self.hooks, self.rng, self.run, self.seed = hooks, rng, run, seed
         self.steps: list[Step] = []
         self.collisions: list[str] = []
+        self.memo: StepMemo | None = None
+        self.replay = False  # read the memo (else compute every step, still storing it)
 
     def result(self, status: str, detail: str = "", goal_failures=()) -> Run:
         return Run(status, tuple(self.steps), detail, tuple(self.collisions),
@@ -108,7 +121,7 @@ class _RunLoop:
             if sampled.planned is None:
                 return self.result(UNREFINED, f"{node['action']}: outcome "
                                    f"{self.steps[-1].outcome} was not planned for")
-            failure = self.act(node, sampled.planned)
+            failure = self.memoised_act(node, sampled.planned)
             if failure:
                 return self.result(FAILURE, failure)
             node = self.nodes[node["outcomes"][sampled.planned]["child"]]
@@ -119,33 +132,59 @@ class _RunLoop:
             return self.result(DEAD_END)
         if node["leaf"] != "goal":
             return self.result(UNREFINED, f"{node['leaf']} leaf")
-        reasons = self.hooks.goal_check(self.world, node) if self.hooks.goal_check else []
+        reasons = self.goal_reasons(node)
         if reasons:
             return self.result(FAILURE, "concrete goal check failed: " + "; ".join(reasons),
                                reasons)
         return self.result(SUCCESS)
 
-    def act(self, node: Mapping[str, Any], k: int) -> str:
+    def goal_reasons(self, leaf: Mapping[str, Any]) -> tuple[str, ...]:
+        if self.hooks.goal_check is None:
+            return ()
+        if self.memo is None:
+            return tuple(self.hooks.goal_check(self.world, leaf))
+        key = self.memo.goal_key(self.world, leaf)
+        if not self.replay or key not in self.memo.goals:
+            self.memo.goals[key] = tuple(self.hooks.goal_check(self.world, leaf))
+        return self.memo.goals[key]
+
+    def memoised_act(self, node: Mapping[str, Any], k: int) -> str:
+        """:meth:`act`, or its stored result for the same state, node, outcome, values."""
+        if self.memo is None:
+            result = self.act(node, k)
+        else:
+            key = self.memo.step_key(self.world, node, k, self.env)
+            result = self.memo.lookup_step(key) if self.replay else None
+            if result is None:
+                result = self.memo.steps[key] = self.act(node, k)
+            else:
+                self.world.restore(result.after)
+        self.collisions.extend(f"{node['action']}: {h}" for h in result.collisions)
+        if self.hooks.on_step is not None and not result.failure:
+            self.hooks.on_step(self.run, self.world)
+        return result.failure
+
+    def act(self, node: Mapping[str, Any], k: int) -> StepResult:
         action = concrete_action(node, k, self.env)
         fn = self.executors.get(node["action_name"])
+        hits: list[str] = []
         try:
             if self.hooks.recheck is not None:
                 hits = self.hooks.recheck(self.world, action)
-                self.collisions.extend(f"{node['action']}: {h}" for h in hits)
             if self.hooks.before_action is not None:
                 self.hooks.before_action(self.world, action)
             if fn is not None and (action.adds or action.deletes):  # no-op outcomes: as is
-                ctx = Context(world=self.world, rng=random.Random(self.rng.random()),
-                              options={}, cache={})
+                # seeded by the step, not the run: same step, same controller choices
+                ctx = Context(world=self.world, options={}, cache={},
+                              rng=random.Random(f"{self.seed}:{node['id']}:{k}"))
                 probability = float(node["outcomes"][k]["probability"])
                 call_executor(fn, ctx, action, outcome_of(action, probability))
             if self.hooks.after_action is not None:
                 self.hooks.after_action(self.world, action)
         except Exception as exc:  # a concrete step failing is a failed run, not a crash
-            return f"{node['action']}: {type(exc).__name__}: {exc}"
-        if self.hooks.on_step is not None:
-            self.hooks.on_step(self.run, self.world)
-        return ""
+            return StepResult(self.world.snapshot(), tuple(hits),
+                              f"{node['action']}: {type(exc).__name__}: {exc}")
+        return StepResult(self.world.snapshot(), tuple(hits), "")
 
 
 def _step(node: Mapping[str, Any], sampled: TrueOutcome, truth: TruthModel) -> Step:

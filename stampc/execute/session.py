@@ -17,11 +17,15 @@ from stampc.execute.report import ExecutionReport
 
 def execute_file(path: Path, *, runs: int, seed: int, max_steps: int = 500,
                  truth: Sequence[str] | Mapping[str, Any] = (), verbose: bool = False,
-                 physics: bool = True, recorder: Any = None) -> ExecutionReport:
+                 physics: bool = True, recorder: Any = None, memo: bool = True,
+                 on_memo: Any = None) -> ExecutionReport:
     """Execute the policy at ``path``; ``recorder`` (:class:`.frames.Recorder`) records
-    the first run; ``physics`` lets PyBullet objects settle under gravity."""
+    the first run; ``physics`` lets PyBullet objects settle under gravity; ``memo``
+    replays steps already computed from the same concrete state (:mod:`.memo`), and
+    ``on_memo(memo)`` sees the memo at the end (its hit and miss counts)."""
     from stampc import api
     from stampc.execute.goals import goal_check_for
+    from stampc.execute.memo import StepMemo
     from stampc.execute.policyfile import load_policy
     from stampc.provenance import verify
     from stampc.execute.recheck import recheck_for
@@ -48,8 +52,12 @@ def execute_file(path: Path, *, runs: int, seed: int, max_steps: int = 500,
                        recheck_for(world))
         if recorder is not None:
             recorder.start(world)
+        steps = StepMemo() if memo else None
         results = execute_policy(policy, world, bindings.executors, true_model, runs=runs,
-                                 seed=seed, max_steps=max_steps, hooks=hooks)
+                                 seed=seed, max_steps=max_steps, hooks=hooks, memo=steps,
+                                 fresh_runs=1 if recorder is not None else 0)
+        if on_memo is not None and steps is not None:
+            on_memo(steps)
     finally:
         world.close()
     return ExecutionReport(results, predicted_success(policy, true_model),

@@ -59,3 +59,21 @@ def test_frames_follow_each_motion(tmp_path) -> None:
         assert len(recorder.frames) >= PER_MOTION
         assert not (recorder.frames[0] == recorder.frames[-1]).all()  # the arm moved
         assert world.state.q == q0
+
+
+def test_an_object_the_hand_sets_down_turned_is_placed_not_toppled() -> None:
+    """A Keva put stands a plank upright: its up axis turns by 90°, but it was held, so
+    physics settles it where it was put (it must not fall from where it was picked)."""
+    upright = Pose((0.45, 0.0, 0.252), (0.7071067811865476, 0.0, 0.0, 0.7071067811865476))
+    with open_world(SCENE, seed=0) as world:
+        physics = Physics(world)
+        world.update(held="can", grip=world.ee_pose().inverse().multiply(
+            world.object_pose("can")))
+        physics.before_action(world, None)
+        world.update(held=None, grip=None, released="can",
+                     poses=world.with_object_pose("can", Pose((0.4, -0.1, 0.231),
+                                                              upright.quat)))
+        physics.after_action(world, None)
+        rest = world.object_pose("can")
+        assert abs(rest.pos[0] - 0.4) < 0.01 and abs(rest.pos[1] + 0.1) < 0.01
+        assert rest.pos[2] == pytest.approx(0.2 + 0.03, abs=0.005)  # lying on its side

@@ -45,3 +45,16 @@ def test_forgetting_a_notify_fails_the_concrete_goal(domino: Path, tmp_path: Pat
     failed = [r for r in report.runs if r.goal_failures]
     assert failed and all("toppled but was not notified" in r.detail for r in failed)
     assert report.count("success") + len(failed) == 8
+
+
+@pytest.mark.slow
+def test_keva_structure_is_built_and_stands(tmp_path: Path) -> None:
+    """Keva 3π, two arms, physics on: every put plank stays at its role's pose (a plank
+    stood upright by the hand is placed, not toppled), nothing collides at 10×."""
+    ex = REPO / "examples" / "keva"
+    assert main(["refine", str(ex / "domain.stamp"), str(ex / "problem.stamp"), "--world",
+                 "pybullet", "--quiet", "--seed", "0", "--time-limit", "120",
+                 "-o", str(tmp_path)]) == 0
+    report = execute_file(tmp_path / "policy.json", runs=30, seed=1)
+    assert report.count("success") == 30
+    assert report.collisions == 0 and report.goal_failures == 0

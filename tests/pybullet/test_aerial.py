@@ -114,3 +114,19 @@ def test_inspect_changes_nothing(world):
     s0 = world.snapshot()
     aerial.inspect(ctx(world), ConcreteAction("inspect", {}))
     assert world.snapshot() == s0
+
+
+def test_planned_flights_are_clear_at_the_execution_recheck_resolution():
+    """From the aircraft example's station into ``left_wing`` (RNG seed 3), OMPL's 5 cm
+    motion check passes a straight flight that grazes a body between two checked poses;
+    ``stampc execute`` sweeps every 5 mm and would count a collision. The planner now
+    sweeps each flight at that resolution and offers only clear ones."""
+    from examples.aircraft_inspection.scene import build
+    from stampc.execute.recheck import REFINE
+
+    assert aerial.EXEC_RESOLUTION == aerial.FLY_RESOLUTION / REFINE
+    with open_world(build(0, battery=26, n_scaffolds=3, variant="mid"), seed=0) as w:
+        flights = list(aerial.fly(ctx(w, seed=3), "left_wing"))
+        assert flights
+        for _, traj in flights:
+            assert not aerial.flight_contacts(w, traj, aerial.FLY_RESOLUTION / REFINE)

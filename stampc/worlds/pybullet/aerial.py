@@ -23,7 +23,11 @@ from stampc.worlds.pybullet.planning import planner_class
 from stampc.worlds.pybullet.values import Pose, Traj, as_traj, quat_from_yaw
 from stampc.worlds.pybullet.world import PENETRATION, PyBulletWorld
 
-FLY_RESOLUTION = 0.05  # m between checked poses
+FLY_RESOLUTION = 0.05  # m between checked poses (OMPL's motion check)
+#: the resolution of the execution re-check (``stampc execute``: 10x finer); a planned
+#: flight is swept at it before it is offered, so a grazing contact between two poses
+#: OMPL checked never reaches a policy
+EXEC_RESOLUTION = FLY_RESOLUTION / 10
 
 
 def _world(ctx: Context) -> PyBulletWorld:
@@ -143,22 +147,39 @@ def fly(ctx: Context, region: str) -> Iterator[tuple[Pose, Traj]]:
         path = plan_flight(world, start, goal, ctx.rng,
                            planner=str(ctx.options.get("planner", "RRTConnect")),
                            time_limit=float(ctx.options.get("time_limit", 5.0)))
-        if path is not None:
-            yield goal, Traj(tuple(tuple(c) for c in path), target=region)
+        if path is None:
+            continue
+        traj = Traj(tuple(tuple(c) for c in path), target=region)
+        if flight_free(world, traj):  # else rejected: the next sample plans anew
+            yield goal, traj
 
 
-def flight_free(world: PyBulletWorld, traj: Traj, resolution: float = 0.02) -> bool:
-    """Recheck a flight densely (position interpolation, orientation from the nearer end)."""
+def flight_contacts(world: PyBulletWorld, traj: Traj, resolution: float,
+                    first: bool = False) -> set[int]:
+    """Bodies the UAV penetrates along ``traj`` swept every ``resolution`` m (positions
+    interpolated, orientation from the nearer end); ``first``: stop at the first hit."""
+    cid, hit = world.client, set()
     try:
         for a, b in zip(traj.configs, traj.configs[1:]):
             n = max(1, math.ceil(math.dist(a[:3], b[:3]) / resolution))
             for i in range(n + 1):
                 pos = tuple(x + (y - x) * i / n for x, y in zip(a[:3], b[:3]))
-                if not uav_free(world, pos + tuple((a if i < n / 2 else b)[3:])):
-                    return False
-        return True
+                p.resetBasePositionAndOrientation(world.uav, pos, (a if i < n / 2 else b)[3:],
+                                                  physicsClientId=cid)
+                world.checks += 1
+                p.performCollisionDetection(physicsClientId=cid)
+                hit |= {c[2] for c in p.getContactPoints(bodyA=world.uav, physicsClientId=cid)
+                        if c[8] < -PENETRATION}
+                if hit and first:
+                    return hit
+        return hit
     finally:
         _restore_uav(world)
+
+
+def flight_free(world: PyBulletWorld, traj: Traj, resolution: float = EXEC_RESOLUTION) -> bool:
+    """Whether ``traj`` touches nothing, swept as the execution re-check sweeps it."""
+    return not flight_contacts(world, traj, resolution, first=True)
 
 
 def has_battery(ctx: Context, t: Traj) -> bool:

@@ -55,14 +55,18 @@ class Physics:
         if before is None:
             return
         old, new = dict(before.poses), dict(after.poses)
-        moved = [n for n in new if n != after.held and n not in after.removed
+        held_before, held_after = before.all_held(), after.all_held()
+        moved = [n for n in new if n not in held_after and n not in after.removed
                  and (n not in old or old[n].distance(new[n]) > MOVED
                       or old[n].angle(new[n]) > MOVED)]
-        dropped = [n for n in after.removed - before.removed]
-        released = [n for n in (before.held,) if n and n != after.held and n not in dropped
+        dropped = sorted(after.removed - before.removed)
+        released = [n for n in sorted(held_before - held_after) if n not in dropped
                     and n not in moved and n not in after.removed]
         starts = {n: new[n] for n in moved + released}
-        spins = {n: _tip_over(old[n], new[n]) for n in moved if n in old}
+        # only an event lays a free-standing object down; a hand may turn what it put
+        # (a Keva plank set upright), which is a placement, not a topple
+        spins = {n: _tip_over(old[n], new[n]) for n in moved
+                 if n in old and n not in held_before}
         for n, spin in spins.items():
             if spin is not None:  # toppled: let it fall from where it stood
                 starts[n] = old[n]

@@ -61,6 +61,9 @@ class WorldState:
     battery: float = 0.0
     #: objects taken out of the scene (e.g. a crushed can thrown away)
     removed: frozenset[str] = frozenset()
+    #: removed objects lying where physics let them come to rest (execution: a can in
+    #: the tray); the other removed objects wait out of sight
+    resting: tuple[tuple[str, Pose], ...] = ()
     #: index of the active robot: a selection, not part of the state's identity
     active: int = field(default=0, compare=False)
 

@@ -63,7 +63,6 @@ class PyBulletWorld:
         self.uav = self._add_uav() if spec.uav is not None else -1
         self._placed: dict[str, Pose] = {}
         self._bases: dict[str, Pose] = {}
-        self._resting: dict[str, Pose] = {}
         poses = tuple((o.name, Pose.of(o.position, quat_from_yaw(o.yaw))) for o in spec.objects)
         arms = tuple(ArmState(a.model.rest, Pose.of(a.spec.base, quat_from_yaw(a.spec.yaw)),
                               a.spec.start) for a in self.arms.values())
@@ -254,7 +253,8 @@ class PyBulletWorld:
         arms = tuple((r(a.q), pose(a.base), a.base_name, a.held, pose(a.grip), r(a.retreat),
                       a.released) for a in state.arms)
         return (arms, tuple((n, pose(x)) for n, x in state.poses), pose(state.uav),
-                round(state.battery, 6), tuple(sorted(state.removed)))
+                round(state.battery, 6), tuple(sorted(state.removed)),
+                tuple((n, pose(x)) for n, x in state.resting))
 
     def __enter__(self) -> "PyBulletWorld":
         return self
@@ -270,15 +270,15 @@ class PyBulletWorld:
     def _sync(self, state: WorldState, force: bool = False) -> None:
         """Make the bodies match ``state``, touching only what changed."""
         old = self._state
-        self._unrest(state)
         before, after = old.all_held(), state.all_held()
         for name in (before - after) | (before if force else frozenset()):
             self._set_group(name, G_MOVABLE, G_ROBOT | G_HELD | G_UAV)
         for name in (after - before) | (after if force else frozenset()):
             self._set_group(name, G_HELD, G_MOVABLE | G_STATIC)
+        self._regroup_resting(dict(old.resting), dict(state.resting))
         for name, pose in state.poses:
             if name in state.removed:
-                pose = self._limbo(name)
+                pose = self._limbo(name, state)
             if force or self._placed.get(name) != pose:
                 self._place_body(name, pose)
         self._state = state
@@ -295,24 +295,22 @@ class PyBulletWorld:
                                               physicsClientId=self.client)
             self._bases[name] = base
 
-    def _limbo(self, name: str) -> Pose:
+    def _limbo(self, name: str, state: WorldState) -> Pose:
         """Where removed objects wait: far below the floor, apart from each other —
-        or where physics let them come to rest (:meth:`rest_removed`)."""
-        return self._resting.get(name) or Pose((0.0, 10.0 * self.body[name], -100.0))
+        or where physics let them come to rest (``state.resting``)."""
+        return dict(state.resting).get(name) or Pose((0.0, 10.0 * self.body[name], -100.0))
 
-    # ---- issue 13 hook: a removed object drawn where physics put it (physics.py)
     def rest_removed(self, name: str, pose: Pose) -> None:
-        """Removed object ``name`` lies at ``pose`` (e.g. in the tray): drawn there, out
-        of the robot's way (only objects and surfaces collide with it)."""
-        self._resting[name] = pose
-        self._set_group(name, G_MOVABLE, G_MOVABLE | G_STATIC)
-        self._place_body(name, pose)
+        """Removed ``name`` lies at ``pose`` (in the tray): drawn, out of the robot's way."""
+        resting = {**dict(self._state.resting), name: pose}
+        self._sync(replace(self._state, resting=tuple(sorted(resting.items()))))
 
-    def _unrest(self, state: WorldState) -> None:
-        """Objects no longer removed in ``state`` collide with the robot again."""
-        for name in [n for n in self._resting if n not in state.removed]:
-            del self._resting[name]
+    def _regroup_resting(self, old: dict[str, Pose], new: dict[str, Pose]) -> None:
+        """Resting objects collide with objects and surfaces only, the others as usual."""
+        for name in old.keys() - new.keys():
             self._set_group(name, G_MOVABLE, G_ROBOT | G_HELD | G_UAV)
+        for name in new.keys() - old.keys():
+            self._set_group(name, G_MOVABLE, G_MOVABLE | G_STATIC)
 
     def _set_group(self, name: str, group: int, mask: int) -> None:
         p.setCollisionFilterGroupMask(self.body[name], -1, group, mask,
