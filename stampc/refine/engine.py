@@ -33,16 +33,17 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
                                  abstract_goal_probability, count_covered_paths, coverage,
-                                 dead_end_mass, detach_subtree, goal_probability,
+                                 dead_end_mass, goal_probability,
                                  path_values, select_path)
 from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
+from stampc.refine.backtracking import Backtracking
 from stampc.refine.planner import AbstractPlanner
 from stampc.worlds.bindings import ResolvedBindings
 
 THRESHOLDS = (0.5, 0.8, 0.9, 1.0)
 
 
-class Engine:
+class Engine(Backtracking):
     def __init__(self, model: GroundModel, world: Any, bindings: ResolvedBindings,
                  options: RefineOptions = RefineOptions()):
         self.model = model
@@ -316,48 +317,6 @@ class Engine:
         self._bans[(node.state, node.action)] = node.uid
         return self._update(graph, node, (), "ban", path)
 
-    def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...]) -> Node | None:
-        """The refined ancestor (with generated values) re-sampled least often so far,
-        the nearest among equals: which earlier choice blocks the failing action is not
-        known, so the re-draws are spread over the ancestors instead of exhausting the
-        nearest one first."""
-        candidates = [graph[u] for u in reversed(path[:-1])
-                      if graph[u].refined and graph[u].sigma
-                      and graph[u].resamples < self.options.max_resamples]
-        return min(candidates, key=lambda n: n.resamples) if candidates else None
-
-    def _resample(self, graph: PolicyGraph, ancestor: Node, failed: Node) -> tuple[str, str]:
-        """Backtrack: draw fresh generator values for ``ancestor``. Every refinement below
-        it is invalidated (its subtree becomes an unrefined copy); a new PRG node records
-        the step."""
-        self._lift_bans(graph.reachable(ancestor.uid))
-        new_graph = graph.copy()
-        target = new_graph[ancestor.uid]
-        target.sigma = None
-        target.attempts += 1  # the next concretization draws from fresh generator streams
-        target.resamples += 1
-        detach_subtree(new_graph, target.uid, self.uids)
-        self.resamples += 1
-        v = self.prg.number_of_nodes()
-        self.prg.add_node(v, graph=new_graph, parent=self.current, failed=False)
-        self.prg.add_edge(self.current, v, node=ancestor.uid, kind="resample",
-                          failed_node=failed.uid, failed_preconditions=[],
-                          concretization=sorted(map(str, (ancestor.sigma or {}).keys())))
-        self.current = v
-        self._track(v, new_graph)
-        label = self.model.actions[ancestor.action].label
-        return "resample", (f"{label}: new generator values (no refinement of "
-                            f"{self.model.actions[failed.action].label} below it)")
-
-    def _lift_bans(self, invalidated) -> None:
-        """Bans recorded at nodes whose concrete state a re-sample invalidates came from
-        the old generator values: the action may work from the new ones."""
-        gone = set(invalidated)
-        for key, uid in list(self._bans.items()):
-            if uid in gone:
-                self.planner.forbidden.discard(key)
-                del self._bans[key]
-
     def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
                 path: tuple[int, ...] = ()) -> tuple[str, str]:
         """UpdateAbstraction: write the true facts at ``node``, replan below it (new PRG node)."""
@@ -396,22 +355,6 @@ class Engine:
         self.current = v
         self._track(v, new_graph)
         return kind, ", ".join(facts) or "action banned"
-
-    def _backtrack(self, uid: int | None) -> tuple[str, str]:
-        """Iterative broadening: return to the deepest PRG ancestor with spare breadth
-        (never to one found exhausted)."""
-        u = self.current
-        while u is not None:
-            graph = self.prg.nodes[u]["graph"]
-            if uid is not None and uid in graph.nodes:
-                graph[uid].attempts += 1  # next visit draws fresh samples
-            if self.prg.out_degree(u) < self.breadth and not self.prg.nodes[u].get("exhausted"):
-                self.current = u
-                return "backtrack", f"to PRG node {u}"
-            u = self.prg.nodes[u]["parent"]
-        self.breadth += self.options.breadth_step
-        self.current = 0
-        return "backtrack", f"breadth {self.breadth}"
 
     @staticmethod
     def _adopt(graph: PolicyGraph, target: Node, source: Node) -> None:
