@@ -22,6 +22,7 @@ from stampc.ir.ground_checks import ADD_WINS, DELETE_WINS, check_rule, effect_co
 from stampc.ir.ground_context import AtomKey, GroundingContext
 from stampc.ir.grounded import GroundAction, GroundAtom, GroundModel
 from stampc.ir.instantiate import ActionInstance, EffectGrounder, instantiate
+from stampc.ir.masks import FactSet
 from stampc.ir.reachability import (DEFAULT_MAX_ACTIONS, DEFAULT_MAX_SYMBOL_DEPTH, Reachable,
                                     explore)
 from stampc.ir.scope import ScopeAnalysis
@@ -92,10 +93,10 @@ def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: Fa
     for i, (pred, _) in enumerate(table.facts):
         if pred in ctx.optimistic_true:
             init |= 1 << i  # unknowable facts start at their optimistic value
-    conflicts: dict[int, tuple[GroundAction, int]] = {}
+    conflicts: dict[int, tuple[GroundAction, FactSet]] = {}
     actions = []
     for k, a in enumerate(instances):
-        mask = effect_conflicts(a.effect)
+        mask = effect_conflicts(a.effect, len(table.facts))
         action = GroundAction(index=k, name=a.name, args=a.args, precondition=a.precondition,
                               effect=a.effect, base_cost=a.base_cost, schema=a.schema,
                               generated=a.generated,

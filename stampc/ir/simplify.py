@@ -17,6 +17,7 @@ from stampc.ir import lifted as L
 from stampc.ir.ground_context import AtomKey, GroundingContext, fail, located
 from stampc.ir.grounded import GAnd, GFormula, GLit, GOr, GroundCondition
 from stampc.ir.guards import GuardedExpander, effect_guards, formula_guards
+from stampc.ir.masks import from_indices
 from stampc.ir.scope import ScopeAnalysis
 
 #: Result of simplification: a constant or a ground formula.
@@ -63,19 +64,17 @@ def to_condition(f: Simplified) -> GroundCondition:
         return GroundCondition()
     if f is False:
         return NEVER
-    pos = neg = 0
+    pos: list[int] = []
+    neg: list[int] = []
     rest: list[GFormula] = []
     for part in (f.args if isinstance(f, GAnd) else (f,)):
         if isinstance(part, GLit):
-            if part.positive:
-                pos |= 1 << part.fact
-            else:
-                neg |= 1 << part.fact
+            (pos if part.positive else neg).append(part.fact)
         else:
             rest.append(part)
-    if pos & neg:
+    if pos and neg and not set(pos).isdisjoint(neg):
         return NEVER
-    return GroundCondition(pos, neg, tuple(rest))
+    return GroundCondition(from_indices(pos), from_indices(neg), tuple(rest))
 
 
 class FactTable:
