@@ -79,6 +79,8 @@ def _instantiate_all(ctx: GroundingContext, reach: Reachable,
             inst = instantiate(ctx, simp, effects, schema, binding)
             if inst is not None:
                 out.append(inst)
+        simp.forget_nodes()
+        effects.memo.clear()
     out.sort(key=lambda a: (a.name, a.args, a.schema))
     return out
 

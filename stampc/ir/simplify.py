@@ -114,6 +114,14 @@ class Simplifier:
         #: location used in diagnostics raised while grounding the current declaration
         self.span = located(None, ctx.model)
 
+    def forget_nodes(self) -> None:
+        """Drop the caches keyed by lifted nodes (memo, guards, scopes): nodes of an
+        action schema already ground are not met again, and keeping them for every
+        schema made grounding memory grow several kB per action."""
+        self.memo.clear()
+        self._guards.clear()
+        self.scopes.clear()
+
     def args(self, terms: tuple[L.Term, ...], env: Env) -> tuple[str, ...]:
         # hot path: a list comprehension and exact type checks are ~2x faster here
         return tuple([env[t.name] if type(t) is L.Var else t.name for t in terms])
