@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Iterable
 
-from stampc.ir.relax import Filter, Pattern, Rule
+from stampc.ir.relax import Filter, Rule
 
 Env = dict[str, str]
 
@@ -49,7 +49,7 @@ class FactBase:
 
 @dataclass(frozen=True)
 class _Step:
-    pattern: Pattern
+    atom: int                        # position of the step's atom in the rule body
     bound: tuple[int, ...]           # positions whose value is known before this step
     key_terms: tuple[tuple[bool, str], ...]
     binds: tuple[tuple[int, str], ...]   # first occurrences of new variables
@@ -104,7 +104,7 @@ def _plan(rule: Rule, anchor: int | None) -> tuple[tuple[_Step, ...], tuple[Filt
         known |= seen_new
         ready = tuple(f for f in pending if all(n in known for v, n in f.terms if v))
         pending = [f for f in pending if f not in ready]
-        steps.append(_Step(pat, tuple(bpos), tuple(pat.terms[p] for p in bpos), tuple(binds),
+        steps.append(_Step(i, tuple(bpos), tuple(pat.terms[p] for p in bpos), tuple(binds),
                            tuple(checks), len(bpos) == len(pat.terms), ready))
     return tuple(steps), initial
 
@@ -120,18 +120,28 @@ class RuleRunner:
                  shared_plans: dict[tuple, tuple] | None = None):
         self.rule = rule
         self.static_holds = static_holds
-        self._plans: dict[int | None, tuple] = {}
-        #: plans by rule body: generated domains repeat one body over many schemas
+        #: plans by anchor (None: slot 0, body atom i: slot i + 1)
+        self._plans: list[tuple | None] = [None] * (len(rule.body) + 1)
+        #: plans by body shape: generated domains repeat one body over many schemas
         self._shared = {} if shared_plans is None else shared_plans
 
     def plan(self, anchor: int | None) -> tuple:
-        p = self._plans.get(anchor)
+        slot = 0 if anchor is None else anchor + 1
+        p = self._plans[slot]
         if p is None:
-            key = (self.rule.body, self.rule.filters, anchor)
-            p = self._shared.get(key)
-            if p is None:
-                p = self._shared[key] = _plan(self.rule, anchor)
-            self._plans[anchor] = p
+            p = self._plans[slot] = self._shared_plan(anchor)
+        return p
+
+    def _shared_plan(self, anchor: int | None) -> tuple:
+        # A plan depends on the body's terms, on which atoms are type atoms and on the
+        # filters, not on relation names (steps refer to atoms by position): effect rules
+        # of copies of one schema differ only in their "@act:<schema>" atom.
+        rule = self.rule
+        key = (tuple((p.terms, p.rel.startswith("@type")) for p in rule.body), rule.filters,
+               anchor)
+        p = self._shared.get(key)
+        if p is None:
+            p = self._shared[key] = _plan(rule, anchor)
         return p
 
     def check(self, f: Filter, env: Env) -> bool:
@@ -170,10 +180,11 @@ class RuleRunner:
               emit: Callable[[Env], None]) -> None:
         # Fully bound steps are membership tests: a loop, not recursion, so bodies with
         # thousands of literals (10,000-conjunct preconditions) stay within the stack.
+        body = self.rule.body
         while k < len(steps) and steps[k].full:
             step = steps[k]
             key = tuple(env[n] if v else n for v, n in step.key_terms)
-            if key not in kb.relation(step.pattern.rel) or \
+            if key not in kb.relation(body[step.atom].rel) or \
                     not all(self.check(f, env) for f in step.filters):
                 return
             k += 1
@@ -182,8 +193,8 @@ class RuleRunner:
             return
         step = steps[k]
         key = tuple(env[n] if v else n for v, n in step.key_terms)
-        candidates = kb.lookup(step.pattern.rel, step.bound, key) if step.bound \
-            else list(kb.relation(step.pattern.rel))
+        rel = body[step.atom].rel
+        candidates = kb.lookup(rel, step.bound, key) if step.bound else list(kb.relation(rel))
         for tup in candidates:
             if self._match(step, tup, env):
                 self._join(kb, steps, k + 1, env, emit)
