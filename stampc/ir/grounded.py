@@ -29,7 +29,7 @@ from stampc.ir.lifted import Model
 from stampc.ir.masks import DENSE_BITS, FactSet, as_int, pack
 
 
-@dataclass(frozen=True, order=True)
+@dataclass(frozen=True, order=True, slots=True)
 class GroundAtom:
     predicate: str
     args: tuple[str, ...]
@@ -47,18 +47,18 @@ def bits(mask: int) -> Iterator[int]:
 
 
 # ------------------------------------------------------------ conditions
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GLit:
     fact: int
     positive: bool = True
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GAnd:
     args: tuple["GFormula", ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GOr:
     args: tuple["GFormula", ...]
 
@@ -71,7 +71,7 @@ def _facts(mask: FactSet) -> FactSet:
     return mask if mask.__class__ is int and mask.bit_length() <= DENSE_BITS else pack(mask)
 
 
-@dataclass(frozen=True, init=False)
+@dataclass(frozen=True, init=False, slots=True)
 class GroundCondition:
     """Conjunction ``pos ⊆ s``, ``neg ∩ s = ∅`` plus non-conjunctive remainder ``rest``.
 
@@ -128,7 +128,7 @@ def _eval(f: GFormula, state: int) -> bool:
 
 
 # --------------------------------------------------------------- effects
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GProb:
     """An independent probabilistic block; probabilities may sum below 1 (rest: no-op)."""
 
@@ -142,7 +142,7 @@ class GProb:
 _NO_COST = Fraction(0)  # the default cost object, shared (grounding tests it by identity)
 
 
-@dataclass(frozen=True, init=False)
+@dataclass(frozen=True, init=False, slots=True)
 class GEffect:
     """A conjunction of literal adds/deletes, a cost, conditional sub-effects and
     independent probabilistic blocks.
@@ -192,7 +192,7 @@ class GEffect:
 EMPTY_EFFECT = GEffect()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Successor:
     """One joint outcome: probability, add mask, delete mask, cost, outcome labels."""
 
@@ -206,7 +206,7 @@ class Successor:
         return (state & ~self.delete) | self.add
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GroundGeneratorUse:
     """Generator ``generator`` applied to ``inputs`` (object/symbol names) produces the
     symbols ``outputs`` for one ground action."""
@@ -216,7 +216,7 @@ class GroundGeneratorUse:
     outputs: tuple[str, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GroundAction:
     index: int
     name: str
@@ -248,7 +248,7 @@ class GroundAction:
         return cached if cached is not None else outcome_distribution(self, state)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GroundModel:
     facts: tuple[GroundAtom, ...]
     actions: tuple[GroundAction, ...]
