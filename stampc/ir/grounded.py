@@ -66,9 +66,12 @@ class GOr:
 GFormula = Union[GLit, GAnd, GOr]
 
 
+_DENSE_LIMIT = 1 << DENSE_BITS
+
+
 def _facts(mask: FactSet) -> FactSet:
-    # inlined fast path of pack(): grounding builds millions of conditions and effects
-    return mask if mask.__class__ is int and mask.bit_length() <= DENSE_BITS else pack(mask)
+    # pack()'s common case first: grounding builds millions of conditions and effects
+    return mask if mask.__class__ is int and 0 <= mask < _DENSE_LIMIT else pack(mask)
 
 
 @dataclass(frozen=True, init=False, slots=True)
