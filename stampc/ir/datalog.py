@@ -116,6 +116,8 @@ def _value(term: tuple[bool, str], env: Env) -> str:
 class RuleRunner:
     """Evaluates one rule, fully or anchored on delta facts, calling ``emit(env)``."""
 
+    __slots__ = ("rule", "static_holds", "_plans", "_shared")  # one per rule: 10^5 of them
+
     def __init__(self, rule: Rule, static_holds: Callable[[str, tuple[str, ...]], bool],
                  shared_plans: dict[tuple, tuple] | None = None):
         self.rule = rule
@@ -210,10 +212,16 @@ def fixpoint(kb: FactBase, rules: list[Rule], static_holds: Callable,
     a derived head produces to ``pending`` as (relation, tuple) pairs."""
     shared_plans: dict[tuple, tuple] = {}
     runners = [RuleRunner(r, static_holds, shared_plans) for r in rules]
-    by_rel: dict[str, list[tuple[RuleRunner, int]]] = {}
+    # relation -> (runners, positions) of the body atoms over it: two flat lists, not a
+    # pair per atom (generated domains have several body atoms per schema)
+    by_rel: dict[str, tuple[list[RuleRunner], list[int]]] = {}
     for runner in runners:
         for i, pat in enumerate(runner.rule.body):
-            by_rel.setdefault(pat.rel, []).append((runner, i))
+            users = by_rel.get(pat.rel)
+            if users is None:
+                users = by_rel[pat.rel] = ([], [])
+            users[0].append(runner)
+            users[1].append(i)
     pending: list[tuple[str, tuple[str, ...]]] = []
     for runner in runners:
         _run_collect(runner, kb, on_head, pending, None, ())
@@ -224,7 +232,7 @@ def fixpoint(kb: FactBase, rules: list[Rule], static_holds: Callable,
                 delta.setdefault(rel, []).append(tup)
         pending = []
         for rel, tuples in delta.items():
-            for runner, i in by_rel.get(rel, ()):
+            for runner, i in zip(*by_rel.get(rel, ((), ()))):
                 _run_collect(runner, kb, on_head, pending, i, tuples)
 
 
