@@ -128,6 +128,7 @@ def indices(facts: FactSet) -> Sequence[int]:
 
 
 def union_all(sets: Iterable[FactSet]) -> FactSet:
+    """The union of fact sets (ints are OR-ed, sparse ones united by index)."""
     mask = 0
     high: list[int] = []
     for s in sets:
@@ -136,26 +137,3 @@ def union_all(sets: Iterable[FactSet]) -> FactSet:
         else:
             high.extend(s)
     return from_indices(chain(bits_to_list(mask), high)) if high else pack(mask)
-
-
-def union(a: FactSet, b: FactSet) -> FactSet:
-    if a.__class__ is int and b.__class__ is int:
-        return pack(a | b)  # unions of compact ints are compact: pack only checks
-    return union_all((a, b))
-
-
-def intersection(a: FactSet, b: FactSet) -> FactSet:
-    if a.__class__ is int and b.__class__ is int:
-        return pack(a & b)
-    if not (a and b):
-        return 0
-    return from_indices(set(indices(a)).intersection(indices(b)))
-
-
-def difference(a: FactSet, b: FactSet) -> FactSet:
-    """Facts of ``a`` not in ``b``."""
-    if a.__class__ is int and b.__class__ is int:
-        return pack(a & ~b)
-    if not (a and b):
-        return a
-    return from_indices(set(indices(a)).difference(indices(b)))
