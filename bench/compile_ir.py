@@ -9,7 +9,8 @@ Usage: ``python bench/compile_ir.py [--runs R] [--sizes 2000,20000,165000] [--sk
 - stamp: a domain of N actions from ``bench/frontend.py``'s generator plus a small
   problem, each size in its own child process; prints seconds and actions/s per stage
   (parse + check, lower, ground, JSON) so a cost growing faster than N shows as falling
-  throughput. The generator's ``? forall (t2: traj) collision(o, t2)`` effect is
+  throughput, and the process's peak RSS at the end of each stage (the checked program
+  is dropped after lowering, as ``stampc compile`` does). The generator's ``? forall (t2: traj) collision(o, t2)`` effect is
   narrowed to the action's own trajectory: over all trajectories it is quadratic by
   definition (every ground action has its own Skolem trajectory, and each would mark
   all N of them unknown).
@@ -19,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -128,57 +130,65 @@ def stamp_child(n: int, replicate_from: int) -> None:
         d, p = Path(tmp) / "domain.stamp", Path(tmp) / "problem.stamp"
         d.write_text(narrowed)
         p.write_text(PROBLEM)
-        stages: list[tuple[str, float]] = []
+        stages: list[tuple[str, float, float]] = []
         clock = time.process_time
+
+        def done(name: str, start: float) -> None:
+            peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
+            stages.append((name, clock() - start, peak))
+
         t = clock()
         loaded = load_together([d, p])
-        stages.append(("parse+check" if base == n else f"check@{base}", clock() - t))
+        done("parse+check" if base == n else f"check@{base}", t)
         if base < n:
             loaded = replicate_actions(loaded, n)
         t = clock()
         model = lower(loaded)
-        stages.append(("lower", clock() - t))
+        del loaded  # stampc compile keeps only the lifted model
+        done("lower", t)
         t = clock()
         gm = ground(model)
-        stages.append(("ground", clock() - t))
+        done("ground", t)
         t = clock()
         with open(Path(tmp) / "lifted.json", "w", encoding="utf-8") as f:
             write_lifted_json(model, f)
         with open(Path(tmp) / "grounded.json", "w", encoding="utf-8") as f:
             write_grounded_json(gm, f)
-        stages.append(("json", clock() - t))
+        done("json", t)
         size = sum(f.stat().st_size for f in Path(tmp).glob("*.json"))
     print(f"STAGES {len(model.domain.actions)} {len(gm.actions)} {size} "
-          + " ".join(f"{name}={sec:.4f}" for name, sec in stages)
+          + " ".join(f"{name}={sec:.4f}:{peak:.0f}" for name, sec, peak in stages)
           + f" narrowed={text != narrowed}")
 
 
 def bench_stamp(sizes: list[int], replicate_from: int) -> None:
     print(f"\ngenerated stamp domain (bench/frontend.py 'stress' actions; CPU s of the "
-          f"child, actions/s = schemas / CPU s; load average {os.getloadavg()[0]:.1f})")
+          f"child, actions/s = schemas / CPU s; peak RSS of the child at the end of each "
+          f"stage; load average {os.getloadavg()[0]:.1f})")
     print(f"{'actions':>8} {'ground':>7} {'stage':<12} {'cpu s':>8} {'actions/s':>10}"
-          f" {'JSON MB':>8} {'peak RSS MB':>11}")
+          f" {'peak RSS MB':>11} {'JSON MB':>8}")
     for n in sizes:
         wall, code, rss, out, _ = timed_child([sys.executable, str(Path(__file__)), "--child",
                                                str(n), "--replicate-from", str(replicate_from)])
         line = next((ln for ln in out.splitlines() if ln.startswith("STAGES")), None)
         if code != 0 or line is None:
-            print(f"{n:>8} failed (exit {code}): {out[-2000:]}")
+            print(f"{n:>8} failed (exit {code}, peak RSS {rss:.0f} MB): {out[-2000:]}")
             continue
         _, schemas, ground_n, size, *stages = line.split()
-        pairs = [s.split("=") for s in stages if not s.startswith("narrowed")]
+        rows = [(name, *value.split(":")) for name, value in
+                (s.split("=") for s in stages if not s.startswith("narrowed"))]
         if "narrowed=False" in stages:
             print(f"  note: the generator no longer has {NARROW[0]!r}; measured as generated")
-        for i, (name, sec) in enumerate(pairs):
+        for i, (name, sec, peak) in enumerate(rows):
             done = int(name[6:]) if name.startswith("check@") else int(schemas)
             rate = done / max(float(sec), 1e-9)
-            extra = f" {int(size) / 1e6:8.1f} {rss:11.0f}" if i == 0 else ""
+            extra = f" {int(size) / 1e6:8.1f}" if name == "json" else ""
             print(f"{n if i == 0 else '':>8} {ground_n if i == 0 else '':>7} {name:<12} "
-                  f"{float(sec):8.2f} {rate:10.0f}{extra}")
-        total = sum(float(sec) for _, sec in pairs[1:])
+                  f"{float(sec):8.2f} {rate:10.0f} {float(peak):11.0f}{extra}")
+        total = sum(float(sec) for _, sec, _ in rows[1:])
         print(f"{'':>8} {'':>7} {'after AST':<12} {total:8.2f} "
-              f"{int(schemas) / max(total, 1e-9):10.0f}   (lower + ground + json; wall "
-              f"{wall:.1f} s)")
+              f"{int(schemas) / max(total, 1e-9):10.0f} {rss:11.0f}   (lower + ground + json; "
+              f"wall {wall:.1f} s)")
 
 
 def main(argv: list[str] | None = None) -> int:

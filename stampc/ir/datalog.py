@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Iterable
 
-from stampc.ir.relax import Filter, Pattern, Rule
+from stampc.ir.relax import Filter, Rule
 
 Env = dict[str, str]
 
@@ -49,7 +49,7 @@ class FactBase:
 
 @dataclass(frozen=True)
 class _Step:
-    pattern: Pattern
+    atom: int                        # position of the step's atom in the rule body
     bound: tuple[int, ...]           # positions whose value is known before this step
     key_terms: tuple[tuple[bool, str], ...]
     binds: tuple[tuple[int, str], ...]   # first occurrences of new variables
@@ -104,7 +104,7 @@ def _plan(rule: Rule, anchor: int | None) -> tuple[tuple[_Step, ...], tuple[Filt
         known |= seen_new
         ready = tuple(f for f in pending if all(n in known for v, n in f.terms if v))
         pending = [f for f in pending if f not in ready]
-        steps.append(_Step(pat, tuple(bpos), tuple(pat.terms[p] for p in bpos), tuple(binds),
+        steps.append(_Step(i, tuple(bpos), tuple(pat.terms[p] for p in bpos), tuple(binds),
                            tuple(checks), len(bpos) == len(pat.terms), ready))
     return tuple(steps), initial
 
@@ -116,22 +116,34 @@ def _value(term: tuple[bool, str], env: Env) -> str:
 class RuleRunner:
     """Evaluates one rule, fully or anchored on delta facts, calling ``emit(env)``."""
 
+    __slots__ = ("rule", "static_holds", "_plans", "_shared")  # one per rule: 10^5 of them
+
     def __init__(self, rule: Rule, static_holds: Callable[[str, tuple[str, ...]], bool],
                  shared_plans: dict[tuple, tuple] | None = None):
         self.rule = rule
         self.static_holds = static_holds
-        self._plans: dict[int | None, tuple] = {}
-        #: plans by rule body: generated domains repeat one body over many schemas
+        #: plans by anchor (None: slot 0, body atom i: slot i + 1)
+        self._plans: list[tuple | None] = [None] * (len(rule.body) + 1)
+        #: plans by body shape: generated domains repeat one body over many schemas
         self._shared = {} if shared_plans is None else shared_plans
 
     def plan(self, anchor: int | None) -> tuple:
-        p = self._plans.get(anchor)
+        slot = 0 if anchor is None else anchor + 1
+        p = self._plans[slot]
         if p is None:
-            key = (self.rule.body, self.rule.filters, anchor)
-            p = self._shared.get(key)
-            if p is None:
-                p = self._shared[key] = _plan(self.rule, anchor)
-            self._plans[anchor] = p
+            p = self._plans[slot] = self._shared_plan(anchor)
+        return p
+
+    def _shared_plan(self, anchor: int | None) -> tuple:
+        # A plan depends on the body's terms, on which atoms are type atoms and on the
+        # filters, not on relation names (steps refer to atoms by position): effect rules
+        # of copies of one schema differ only in their "@act:<schema>" atom.
+        rule = self.rule
+        key = (tuple((p.terms, p.rel.startswith("@type")) for p in rule.body), rule.filters,
+               anchor)
+        p = self._shared.get(key)
+        if p is None:
+            p = self._shared[key] = _plan(rule, anchor)
         return p
 
     def check(self, f: Filter, env: Env) -> bool:
@@ -170,10 +182,11 @@ class RuleRunner:
               emit: Callable[[Env], None]) -> None:
         # Fully bound steps are membership tests: a loop, not recursion, so bodies with
         # thousands of literals (10,000-conjunct preconditions) stay within the stack.
+        body = self.rule.body
         while k < len(steps) and steps[k].full:
             step = steps[k]
             key = tuple(env[n] if v else n for v, n in step.key_terms)
-            if key not in kb.relation(step.pattern.rel) or \
+            if key not in kb.relation(body[step.atom].rel) or \
                     not all(self.check(f, env) for f in step.filters):
                 return
             k += 1
@@ -182,8 +195,8 @@ class RuleRunner:
             return
         step = steps[k]
         key = tuple(env[n] if v else n for v, n in step.key_terms)
-        candidates = kb.lookup(step.pattern.rel, step.bound, key) if step.bound \
-            else list(kb.relation(step.pattern.rel))
+        rel = body[step.atom].rel
+        candidates = kb.lookup(rel, step.bound, key) if step.bound else list(kb.relation(rel))
         for tup in candidates:
             if self._match(step, tup, env):
                 self._join(kb, steps, k + 1, env, emit)
@@ -199,10 +212,16 @@ def fixpoint(kb: FactBase, rules: list[Rule], static_holds: Callable,
     a derived head produces to ``pending`` as (relation, tuple) pairs."""
     shared_plans: dict[tuple, tuple] = {}
     runners = [RuleRunner(r, static_holds, shared_plans) for r in rules]
-    by_rel: dict[str, list[tuple[RuleRunner, int]]] = {}
+    # relation -> (runners, positions) of the body atoms over it: two flat lists, not a
+    # pair per atom (generated domains have several body atoms per schema)
+    by_rel: dict[str, tuple[list[RuleRunner], list[int]]] = {}
     for runner in runners:
         for i, pat in enumerate(runner.rule.body):
-            by_rel.setdefault(pat.rel, []).append((runner, i))
+            users = by_rel.get(pat.rel)
+            if users is None:
+                users = by_rel[pat.rel] = ([], [])
+            users[0].append(runner)
+            users[1].append(i)
     pending: list[tuple[str, tuple[str, ...]]] = []
     for runner in runners:
         _run_collect(runner, kb, on_head, pending, None, ())
@@ -213,7 +232,7 @@ def fixpoint(kb: FactBase, rules: list[Rule], static_holds: Callable,
                 delta.setdefault(rel, []).append(tup)
         pending = []
         for rel, tuples in delta.items():
-            for runner, i in by_rel.get(rel, ()):
+            for runner, i in zip(*by_rel.get(rel, ((), ()))):
                 _run_collect(runner, kb, on_head, pending, i, tuples)
 
 

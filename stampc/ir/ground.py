@@ -24,6 +24,7 @@ from stampc.ir.ground_checks import ADD_WINS, DELETE_WINS, check_rule, effect_co
 from stampc.ir.ground_context import AtomKey, GroundingContext
 from stampc.ir.grounded import AxiomProgram, GroundAction, GroundAtom, GroundModel
 from stampc.ir.instantiate import ActionInstance, EffectGrounder, instantiate
+from stampc.ir.masks import FactSet
 from stampc.ir.reachability import (DEFAULT_MAX_ACTIONS, DEFAULT_MAX_SYMBOL_DEPTH, Reachable,
                                     explore)
 from stampc.ir.scope import ScopeAnalysis
@@ -82,6 +83,8 @@ def _instantiate_all(ctx: GroundingContext, reach: Reachable,
             inst = instantiate(ctx, simp, effects, schema, binding)
             if inst is not None:
                 out.append(inst)
+        simp.forget_nodes()
+        effects.memo.clear()
     out.sort(key=lambda a: (a.name, a.args, a.schema))
     return out
 
@@ -98,10 +101,10 @@ def _assemble(model: L.Model, ctx: GroundingContext, reach: Reachable, table: Fa
         if pred in ctx.optimistic_true:
             init |= 1 << i  # unknowable facts start at their optimistic value
     init = axioms.close(init)
-    conflicts: dict[int, tuple[GroundAction, int]] = {}
+    conflicts: dict[int, tuple[GroundAction, FactSet]] = {}
     actions = []
     for k, a in enumerate(instances):
-        mask = effect_conflicts(a.effect)
+        mask = effect_conflicts(a.effect, len(table.facts))
         action = GroundAction(index=k, name=a.name, args=a.args, precondition=a.precondition,
                               effect=a.effect, base_cost=a.base_cost, schema=a.schema,
                               generated=a.generated,

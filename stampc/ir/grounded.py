@@ -2,6 +2,10 @@
 
 States are Python ``int`` bitsets over ``GroundModel.facts`` (bit i set = fact i true):
 hashable, compact and fast to mask. Static facts are compiled away during grounding.
+Conditions and effects store their fact sets as :data:`stampc.ir.masks.FactSet` (an int,
+or a sorted index tuple when an int would be mostly zeros: a model whose actions each
+touch facts of their own would otherwise need memory quadratic in its size); their
+``pos``/``neg``/``add``/``delete``/``unknown`` attributes are always int bitsets.
 
 Effects stay *factored* (independent probabilistic blocks, conditional effects kept as
 conditions) because enumerating joint outcomes up front explodes on domains such as
@@ -22,9 +26,10 @@ from fractions import Fraction
 from typing import Iterable, Iterator, Union
 
 from stampc.ir.lifted import Model
+from stampc.ir.masks import DENSE_BITS, FactSet, as_int, pack
 
 
-@dataclass(frozen=True, order=True)
+@dataclass(frozen=True, order=True, slots=True)
 class GroundAtom:
     predicate: str
     args: tuple[str, ...]
@@ -53,18 +58,18 @@ def bits(mask: int) -> Iterator[int]:
 
 
 # ------------------------------------------------------------ conditions
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GLit:
     fact: int
     positive: bool = True
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GAnd:
     args: tuple["GFormula", ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GOr:
     args: tuple["GFormula", ...]
 
@@ -72,26 +77,57 @@ class GOr:
 GFormula = Union[GLit, GAnd, GOr]
 
 
-@dataclass(frozen=True)
+_DENSE_LIMIT = 1 << DENSE_BITS
+
+
+def _facts(mask: FactSet) -> FactSet:
+    # pack()'s common case first: grounding builds millions of conditions and effects
+    return mask if mask.__class__ is int and 0 <= mask < _DENSE_LIMIT else pack(mask)
+
+
+@dataclass(frozen=True, init=False, slots=True)
 class GroundCondition:
     """Conjunction ``pos ⊆ s``, ``neg ∩ s = ∅`` plus non-conjunctive remainder ``rest``.
 
-    ``never`` marks a condition simplified to false during grounding.
+    ``never`` marks a condition simplified to false during grounding. ``pos`` and ``neg``
+    accept and give int bitsets; they are stored as fact sets (``pos_facts``,
+    ``neg_facts``).
     """
 
-    pos: int = 0
-    neg: int = 0
-    rest: tuple[GFormula, ...] = ()
-    never: bool = False
+    pos_facts: FactSet
+    neg_facts: FactSet
+    rest: tuple[GFormula, ...]
+    never: bool
+
+    def __init__(self, pos: FactSet = 0, neg: FactSet = 0, rest: tuple[GFormula, ...] = (),
+                 never: bool = False) -> None:
+        setattr_ = object.__setattr__  # frozen
+        setattr_(self, "pos_facts", _facts(pos))
+        setattr_(self, "neg_facts", _facts(neg))
+        setattr_(self, "rest", rest)
+        setattr_(self, "never", never)
+
+    @property
+    def pos(self) -> int:
+        return as_int(self.pos_facts)
+
+    @property
+    def neg(self) -> int:
+        return as_int(self.neg_facts)
 
     def holds(self, state: int) -> bool:
-        if self.never or (state & self.pos) != self.pos or (state & self.neg):
+        if self.never:
+            return False
+        pos, neg = self.pos_facts, self.neg_facts
+        if pos.__class__ is not int:
+            pos = as_int(pos)
+        if (state & pos) != pos or (state & (neg if neg.__class__ is int else as_int(neg))):
             return False
         return all(_eval(f, state) for f in self.rest)
 
     @property
     def is_trivial(self) -> bool:
-        return not (self.pos or self.neg or self.rest or self.never)
+        return not (self.pos_facts or self.neg_facts or self.rest or self.never)
 
 
 TRIVIAL = GroundCondition()
@@ -106,7 +142,7 @@ def _eval(f: GFormula, state: int) -> bool:
 
 
 # --------------------------------------------------------------- effects
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GProb:
     """An independent probabilistic block; probabilities may sum below 1 (rest: no-op)."""
 
@@ -117,21 +153,49 @@ class GProb:
     rest_label: str | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+_NO_COST = Fraction(0)  # the default cost object, shared (grounding tests it by identity)
+
+
+@dataclass(frozen=True, init=False, slots=True)
 class GEffect:
     """A conjunction of literal adds/deletes, a cost, conditional sub-effects and
     independent probabilistic blocks.
 
     ``unknown`` marks facts that a ``?`` effect made unknown; their optimistic value is
-    already folded into ``add``/``delete`` so solvers need not care.
+    already folded into ``add``/``delete`` so solvers need not care. ``add``, ``delete``
+    and ``unknown`` accept and give int bitsets; they are stored as fact sets
+    (``add_facts``, ``delete_facts``, ``unknown_facts``).
     """
 
-    add: int = 0
-    delete: int = 0
-    cost: Fraction = Fraction(0)
-    unknown: int = 0
-    whens: tuple[tuple[GroundCondition, "GEffect"], ...] = ()
-    blocks: tuple[GProb, ...] = ()
+    add_facts: FactSet
+    delete_facts: FactSet
+    cost: Fraction
+    unknown_facts: FactSet
+    whens: tuple[tuple[GroundCondition, "GEffect"], ...]
+    blocks: tuple[GProb, ...]
+
+    def __init__(self, add: FactSet = 0, delete: FactSet = 0, cost: Fraction = _NO_COST,
+                 unknown: FactSet = 0, whens: tuple[tuple[GroundCondition, "GEffect"], ...] = (),
+                 blocks: tuple[GProb, ...] = ()) -> None:
+        setattr_ = object.__setattr__  # frozen
+        setattr_(self, "add_facts", _facts(add))
+        setattr_(self, "delete_facts", _facts(delete))
+        setattr_(self, "cost", cost)
+        setattr_(self, "unknown_facts", _facts(unknown))
+        setattr_(self, "whens", whens)
+        setattr_(self, "blocks", blocks)
+
+    @property
+    def add(self) -> int:
+        return as_int(self.add_facts)
+
+    @property
+    def delete(self) -> int:
+        return as_int(self.delete_facts)
+
+    @property
+    def unknown(self) -> int:
+        return as_int(self.unknown_facts)
 
     @property
     def state_independent(self) -> bool:
@@ -142,7 +206,7 @@ class GEffect:
 EMPTY_EFFECT = GEffect()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Successor:
     """One joint outcome: probability, add mask, delete mask, cost, outcome labels."""
 
@@ -156,7 +220,7 @@ class Successor:
         return (state & ~self.delete) | self.add
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GroundGeneratorUse:
     """Generator ``generator`` applied to ``inputs`` (object/symbol names) produces the
     symbols ``outputs`` for one ground action."""
@@ -166,7 +230,7 @@ class GroundGeneratorUse:
     outputs: tuple[str, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GroundAction:
     index: int
     name: str
@@ -261,7 +325,7 @@ class AxiomProgram:
 NO_AXIOMS = AxiomProgram()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GroundModel:
     facts: tuple[GroundAtom, ...]
     actions: tuple[GroundAction, ...]

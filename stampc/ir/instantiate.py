@@ -16,6 +16,7 @@ from stampc.ir import lifted as L
 from stampc.ir.ground_context import GroundingContext, located
 from stampc.ir.grounded import EMPTY_EFFECT, GEffect, GProb, GroundCondition, \
     GroundGeneratorUse
+from stampc.ir.masks import single, union_all
 from stampc.ir.simplify import Env, Simplifier
 
 
@@ -23,34 +24,44 @@ _ZERO = EMPTY_EFFECT.cost  # the default cost object, shared by most effects
 
 
 def is_empty(e: GEffect) -> bool:
-    return not (e.add or e.delete or e.unknown or e.cost or e.whens or e.blocks)
+    return not (e.add_facts or e.delete_facts or e.unknown_facts or e.cost or e.whens
+                or e.blocks)
 
 
 def merge(parts: list[GEffect]) -> GEffect:
     """Conjunction of effects (adds/deletes united, costs summed, sub-effects kept)."""
     # Runs once per ground forall/and, over up to |objects| parts: kept to flat loops.
     # inlined is_empty, cheapest tests first (a Fraction's truth value is a Python call)
-    parts = [p for p in parts if p.blocks or p.whens or p.add or p.delete or p.unknown
-             or (p.cost is not _ZERO and p.cost)]
+    parts = [p for p in parts if p.blocks or p.whens or p.add_facts or p.delete_facts
+             or p.unknown_facts or (p.cost is not _ZERO and p.cost)]
     if not parts:
         return EMPTY_EFFECT
     if len(parts) == 1:
         return parts[0]
     add = delete = unknown = 0
+    sparse: list[GEffect] = []  # parts with a Sparse fact set: united by index below
     costs: list[Fraction] = []
     whens: list = []
     blocks: list = []
     for p in parts:
-        if p.add or p.delete or p.unknown:
-            add |= p.add
-            delete |= p.delete
-            unknown |= p.unknown
+        a, d, u = p.add_facts, p.delete_facts, p.unknown_facts
+        if a or d or u:
+            if a.__class__ is int and d.__class__ is int and u.__class__ is int:
+                add |= a
+                delete |= d
+                unknown |= u
+            else:
+                sparse.append(p)
         if p.cost is not _ZERO and p.cost:  # Fraction arithmetic is slow; most cost nothing
             costs.append(p.cost)
         if p.whens:
             whens += p.whens
         if p.blocks:
             blocks += p.blocks
+    if sparse:
+        add = union_all([add, *(p.add_facts for p in sparse)])
+        delete = union_all([delete, *(p.delete_facts for p in sparse)])
+        unknown = union_all([unknown, *(p.unknown_facts for p in sparse)])
     cost = sum(costs, Fraction(0)) if costs else Fraction(0)
     return GEffect(add, delete, cost, unknown, tuple(whens), tuple(blocks))
 
@@ -136,17 +147,17 @@ class EffectGrounder:
         key = (e.atom.predicate, self.simp.args(e.atom.args, env))
         if e.positive:
             i = self.simp.facts.require(key)
-            return EMPTY_EFFECT if i is None else GEffect(add=1 << i)
+            return EMPTY_EFFECT if i is None else GEffect(add=single(i))
         i = self.simp.facts.lookup(key)
         # deleting a fact that is never true is a no-op
-        return EMPTY_EFFECT if i is None else GEffect(delete=1 << i)
+        return EMPTY_EFFECT if i is None else GEffect(delete=single(i))
 
     def _unknown(self, e: L.Unknown, env: Env) -> GEffect:
         key = (e.atom.predicate, self.simp.args(e.atom.args, env))
         i = self.simp.facts.require(key)
         if i is None:
             return EMPTY_EFFECT
-        bit = 1 << i
+        bit = single(i)
         if self.ctx.predicates[e.atom.predicate].optimistic:
             return GEffect(add=bit, unknown=bit)
         return GEffect(delete=bit, unknown=bit)

@@ -20,58 +20,26 @@ from stampc.ir.grounded import (
     GroundAxiom, GroundCondition, GroundGeneratorUse, GroundModel)
 from stampc.ir.json_lifted import J, frac_from, frac_to
 from stampc.ir.json_model import Write, compact, write_items
+from stampc.ir.masks import FactSet, bits_to_list, from_indices, indices, list_to_int
 
 
 # ----------------------------------------------------------------- bitmasks
-#: The highest bits of a mask are peeled off one at a time (each costs one pass over the
-#: mask); past this many, the rest is read word by word (one pass in all).
-_SPARSE = 64
-
-
-def bits_to_list(mask: int) -> list[int]:
-    """Indices of the set bits of ``mask``, ascending.
-
-    Never quadratic in the mask's size: a shift-by-32 loop would be, and large models
-    have, in every action, masks whose few bits sit near fact 165,000.
-    """
-    top_bits: list[int] = []
-    while mask and len(top_bits) < _SPARSE:
-        top = mask.bit_length() - 1
-        top_bits.append(top)
-        mask ^= 1 << top
-    out = _dense_bits(mask) if mask else []
-    out.extend(reversed(top_bits))
-    return out
-
-
-def _dense_bits(mask: int) -> list[int]:
-    out: list[int] = []
-    words = memoryview(mask.to_bytes((mask.bit_length() + 63) // 64 * 8, "little")).cast("Q")
-    for k, word in enumerate(words):
-        base = 64 * k
-        while word:
-            low = word & -word
-            out.append(base + low.bit_length() - 1)
-            word ^= low
-    return out
+def _checked(values: Any, n_facts: int | None) -> list[int]:
+    values = _list(values)
+    for i in values:
+        if isinstance(i, bool) or not isinstance(i, int) or i < 0 or \
+                (n_facts is not None and i >= n_facts):
+            raise ValueError(f"invalid fact index {i!r}")
+    return values
 
 
 def list_to_bits(indices: Any, n_facts: int | None = None) -> int:
     """Inverse of :func:`bits_to_list`; checks indices against ``n_facts`` when given."""
-    indices = _list(indices)
-    for i in indices:
-        if isinstance(i, bool) or not isinstance(i, int) or i < 0 or \
-                (n_facts is not None and i >= n_facts):
-            raise ValueError(f"invalid fact index {i!r}")
-    if len(indices) <= _SPARSE:
-        mask = 0
-        for i in indices:
-            mask |= 1 << i
-        return mask
-    raw = bytearray((max(indices) >> 3) + 1)
-    for i in indices:
-        raw[i >> 3] |= 1 << (i & 7)
-    return int.from_bytes(raw, "little")
+    return list_to_int(_checked(indices, n_facts))
+
+
+def _fact_set(indices: Any, n_facts: int) -> FactSet:
+    return from_indices(_checked(indices, n_facts))
 
 
 def _list(x: Any) -> list:
@@ -100,10 +68,10 @@ _LISTS = ("whens", "blocks", "rest", "args")
 _CHUNK = 16
 
 
-def _masks(out: J, *pairs: tuple[str, int]) -> J:
-    for key, mask in pairs:
-        if mask:
-            out[key] = bits_to_list(mask)
+def _masks(out: J, *pairs: tuple[str, FactSet]) -> J:
+    for key, facts in pairs:
+        if facts:
+            out[key] = list(indices(facts))
     return out
 
 
@@ -177,8 +145,8 @@ class NodeWriter:
 def _node(obj: Any, refs: list[int]) -> J:
     """The node of ``obj`` given the nodes of its children (``refs``, in order)."""
     if isinstance(obj, GEffect):
-        out = _masks({"t": "effect"}, ("add", obj.add), ("del", obj.delete),
-                     ("unknown", obj.unknown))
+        out = _masks({"t": "effect"}, ("add", obj.add_facts), ("del", obj.delete_facts),
+                     ("unknown", obj.unknown_facts))
         if obj.cost:
             out["cost"] = frac_to(obj.cost)
         n_whens = len(obj.whens)
@@ -188,7 +156,7 @@ def _node(obj: Any, refs: list[int]) -> J:
             out["blocks"] = refs[n_whens:]
         return out
     if isinstance(obj, GroundCondition):
-        out = _masks({"t": "cond"}, ("pos", obj.pos), ("neg", obj.neg))
+        out = _masks({"t": "cond"}, ("pos", obj.pos_facts), ("neg", obj.neg_facts))
         if obj.rest:
             out["rest"] = refs
         if obj.never:
@@ -313,13 +281,13 @@ class NodeReader:
         n = self.n
         if tag == "effect":
             return GEffect(
-                add=list_to_bits(x.get("add", []), n), delete=list_to_bits(x.get("del", []), n),
-                cost=frac_from(x.get("cost", "0")), unknown=list_to_bits(x.get("unknown", []), n),
+                add=_fact_set(x.get("add", []), n), delete=_fact_set(x.get("del", []), n),
+                cost=frac_from(x.get("cost", "0")), unknown=_fact_set(x.get("unknown", []), n),
                 whens=self._many(x.get("whens", []), (tuple,)),
                 blocks=self._many(x.get("blocks", []), (GProb,)))
         if tag == "cond":
-            return GroundCondition(list_to_bits(x.get("pos", []), n),
-                                   list_to_bits(x.get("neg", []), n),
+            return GroundCondition(_fact_set(x.get("pos", []), n),
+                                   _fact_set(x.get("neg", []), n),
                                    self._many(x.get("rest", []), (GLit, GAnd, GOr)),
                                    bool(x.get("never", False)))
         if tag in ("lit", "not"):

@@ -26,12 +26,12 @@ IR_VERSION = "2.2"
 
 
 # ------------------------------------------------------------------ terms
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Var:
     name: str
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Const:
     name: str
 
@@ -39,59 +39,59 @@ class Const:
 Term = Union[Var, Const]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Param:
     name: str
     type: str
 
 
 # --------------------------------------------------------------- formulas
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Atom:
     predicate: str
     args: tuple[Term, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Equals:
     left: Term
     right: Term
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Not:
     arg: "Formula"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class And:
     args: tuple["Formula", ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Or:
     args: tuple["Formula", ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Imply:
     left: "Formula"
     right: "Formula"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Forall:
     params: tuple[Param, ...]
     body: "Formula"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Exists:
     params: tuple[Param, ...]
     body: "Formula"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Truth:
     value: bool
 
@@ -101,12 +101,12 @@ TRUE = Truth(True)
 
 
 # ---------------------------------------------------------------- numeric
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Num:
     value: Fraction
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class FuncTerm:
     """Application of a static numeric function, e.g. ``weight(o)``."""
 
@@ -114,7 +114,7 @@ class FuncTerm:
     args: tuple[Term, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class BinOp:
     op: str  # one of + - * /
     left: "NumExpr"
@@ -125,7 +125,7 @@ NumExpr = Union[Num, FuncTerm, BinOp]
 
 
 # ----------------------------------------------------------------- effects
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Lit:
     """Add (``positive``) or delete an atom."""
 
@@ -133,45 +133,45 @@ class Lit:
     positive: bool = True
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Unknown:
     """``? atom``: after the action the atom's value is unknown to the abstraction."""
 
     atom: Atom
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class EffAnd:
     effects: tuple["Effect", ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class When:
     condition: Formula
     effect: "Effect"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class EffForall:
     params: tuple[Param, ...]
     effect: "Effect"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Outcome:
     probability: Fraction
     effect: "Effect"
     label: str | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Probabilistic:
     """Independent probabilistic block; probabilities may sum below 1 (rest: no-op)."""
 
     outcomes: tuple[Outcome, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class CostEffect:
     """Adds ``amount`` to the action's cost when this effect fires.
 
@@ -187,7 +187,7 @@ NO_EFFECT = EffAnd(())
 
 
 # ----------------------------------------------------------- declarations
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Type:
     name: str
     parent: str | None = None
@@ -195,7 +195,7 @@ class Type:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Object:
     name: str
     type: str
@@ -204,7 +204,7 @@ class Object:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Predicate:
     name: str
     params: tuple[Param, ...]
@@ -219,7 +219,7 @@ class Predicate:
     derived: bool = False
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Function:
     """A static numeric function (e.g. for action costs); values given in the problem."""
 
@@ -228,7 +228,7 @@ class Function:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Binding:
     """A reference to Python code, ``"pkg.module:function"``; never imported by the compiler.
 
@@ -240,7 +240,7 @@ class Binding:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Generator:
     name: str
     inputs: tuple[Param, ...]
@@ -252,7 +252,7 @@ class Generator:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Evaluator:
     """Decides a ``?`` predicate in a concrete world state."""
 
@@ -261,7 +261,7 @@ class Evaluator:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class GeneratorUse:
     """Within an action: generator ``generator`` applied to action parameters ``inputs``
     produces the action parameters ``outputs`` (one Skolem symbol each per ground action)."""
@@ -271,7 +271,7 @@ class GeneratorUse:
     outputs: tuple[str, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Action:
     name: str
     params: tuple[Param, ...]
@@ -287,7 +287,7 @@ class Action:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Axiom:
     """A derived predicate's rule: ``predicate(params)`` holds when ``body`` does (PDDL
     ``:derived``; several rules for one predicate mean "any of them")."""
@@ -298,7 +298,7 @@ class Axiom:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Domain:
     name: str
     types: tuple[Type, ...]
@@ -315,7 +315,7 @@ class Domain:
     axioms: tuple[Axiom, ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class SceneRef:
     """The concrete initial world: a scene file or a bound scene builder with arguments."""
 
@@ -325,7 +325,7 @@ class SceneRef:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Problem:
     name: str
     domain: str
@@ -342,7 +342,7 @@ class Problem:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Model:
     """A lifted domain + problem pair: the compiler's main product.
 

@@ -139,11 +139,12 @@ def explore(ctx: GroundingContext, max_symbol_depth: int = DEFAULT_MAX_SYMBOL_DE
     explorer = _Explorer(ctx, max_symbol_depth, max_actions)
     explorer.seed()
     rules: list[Rule] = []
+    shared: dict = {}
     for schema in range(len(ctx.actions)):
-        rules.extend(action_rules(ctx, schema))
-        rules.extend(effect_rules(ctx, schema))
+        rules.extend(action_rules(ctx, schema, shared))
+        rules.extend(effect_rules(ctx, schema, shared))
     for axiom in ctx.model.domain.axioms:
-        rules.extend(axiom_rules(ctx, axiom))
+        rules.extend(axiom_rules(ctx, axiom, shared))
     fixpoint(explorer.kb, rules, explorer.static_holds, explorer.on_head)
     result = Reachable(symbols=explorer.symbols)
     for rel, tuples in explorer.kb.rels.items():

@@ -27,13 +27,13 @@ RTerm = tuple[bool, str]
 MAX_BODIES = 64
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Pattern:
     rel: str
     terms: tuple[RTerm, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Filter:
     """``eq``/``neq`` between two terms, or ``nstatic``: a static atom must be absent."""
 
@@ -46,7 +46,7 @@ Item = Pattern | Filter
 Body = tuple[Item, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Rule:
     head_rel: str
     head_terms: tuple[RTerm, ...]
@@ -74,10 +74,13 @@ def _product(left: list[Body], right: list[Body]) -> list[Body]:
 class _Compiler:
     """Relaxed DNF of formulas; one instance per action so fresh names stay unique."""
 
-    def __init__(self, ctx: GroundingContext, skip_vars: frozenset[str]):
+    def __init__(self, ctx: GroundingContext, skip_vars: frozenset[str],
+                 shared: dict | None = None):
         self.ctx = ctx
         self.skip = skip_vars  # generated parameters: not joinable, items dropped
         self.counter = 0
+        #: equal rule parts of all schemas, stored once (see :func:`_rule`)
+        self.shared = {} if shared is None else shared
 
     def fresh(self, params: tuple[L.Param, ...], rename: dict[str, str]) -> tuple[dict, Body]:
         rename = dict(rename)
@@ -151,30 +154,36 @@ class _Compiler:
         return union if len(union) <= MAX_BODIES else [()]
 
 
-def _rule(head_rel: str, head_terms: tuple[RTerm, ...], body: Body,
+def _rule(comp: _Compiler, head_rel: str, head_terms: tuple[RTerm, ...], body: Body,
           extra: tuple[Pattern, ...] = ()) -> Rule:
-    patterns = tuple(i for i in body if isinstance(i, Pattern)) + extra
+    # Rule parts are interned: copies of one schema (generated domains have thousands)
+    # give equal patterns, bodies and filters, which are then stored once.
+    shared = comp.shared
+    patterns = tuple(shared.setdefault(i, i) for i in body if isinstance(i, Pattern))
+    patterns += tuple(shared.setdefault(p, p) for p in extra)
     filters = tuple(i for i in body if isinstance(i, Filter))
-    return Rule(head_rel, head_terms, patterns, filters)
+    return Rule(head_rel, shared.setdefault(head_terms, head_terms),
+                shared.setdefault(patterns, patterns), shared.setdefault(filters, filters))
 
 
-def action_rules(ctx: GroundingContext, schema: int) -> list[Rule]:
-    """Rules deriving the (non-generated) parameter bindings of one action schema."""
+def action_rules(ctx: GroundingContext, schema: int, shared: dict | None = None) -> list[Rule]:
+    """Rules deriving the (non-generated) parameter bindings of one action schema
+    (``shared``: a table of rule parts to share between schemas)."""
     action = ctx.actions[schema]
     generated = frozenset(o for use in action.generated for o in use.outputs)
-    comp = _Compiler(ctx, generated)
+    comp = _Compiler(ctx, generated, shared)
     selected = tuple(p for p in action.params if p.name not in generated)
     types = tuple(Pattern(type_rel(p.type), ((True, p.name),)) for p in selected)
     head_rel = pre_rel(schema) if generated else act_rel(schema)
     head = tuple((True, p.name) for p in selected)
-    return [_rule(head_rel, head, body, types)
+    return [_rule(comp, head_rel, head, body, types)
             for body in comp.dnf(action.precondition, True, {})]
 
 
-def effect_rules(ctx: GroundingContext, schema: int) -> list[Rule]:
+def effect_rules(ctx: GroundingContext, schema: int, shared: dict | None = None) -> list[Rule]:
     """Rules deriving the atoms an action schema's effects can make true."""
     action = ctx.actions[schema]
-    comp = _Compiler(ctx, frozenset())
+    comp = _Compiler(ctx, frozenset(), shared)
     base = (Pattern(act_rel(schema), tuple((True, p.name) for p in action.params)),)
     rules: list[Rule] = []
     _walk_effect(comp, action.effect, [base], {}, rules)
@@ -188,7 +197,7 @@ def _walk_effect(comp: _Compiler, e: L.Effect, path: list[Body], rename: dict[st
             return  # deletes never make anything reachable
         terms = comp.terms(e.atom.args, rename)
         if terms is not None:
-            out.extend(_rule(e.atom.predicate, terms, body) for body in path)
+            out.extend(_rule(comp, e.atom.predicate, terms, body) for body in path)
     elif isinstance(e, L.EffAnd):
         for sub in e.effects:
             _walk_effect(comp, sub, path, rename, out)
@@ -207,10 +216,11 @@ def _walk_effect(comp: _Compiler, e: L.Effect, path: list[Body], rename: dict[st
                 _walk_effect(comp, outcome.effect, path, rename, out)
 
 
-def axiom_rules(ctx: GroundingContext, axiom: L.Axiom) -> list[Rule]:
+def axiom_rules(ctx: GroundingContext, axiom: L.Axiom, shared: dict | None = None) -> list[Rule]:
     """Rules deriving the derived atoms a kept axiom can make true (its body relaxed
     like a precondition: negated fluent and derived atoms count as satisfiable)."""
-    comp = _Compiler(ctx, frozenset())
+    comp = _Compiler(ctx, frozenset(), shared)
     types = tuple(Pattern(type_rel(p.type), ((True, p.name),)) for p in axiom.params)
     head = tuple((True, p.name) for p in axiom.params)
-    return [_rule(axiom.predicate, head, body, types) for body in comp.dnf(axiom.body, True, {})]
+    return [_rule(comp, axiom.predicate, head, body, types)
+            for body in comp.dnf(axiom.body, True, {})]

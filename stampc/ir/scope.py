@@ -65,6 +65,11 @@ class ScopeAnalysis:
         self._cache: dict[int, Scope] = {}
         self._keyers: dict[int, Callable[[dict[str, str]], tuple]] = {}
 
+    def clear(self) -> None:
+        """Forget every node (callers that are done with a part of the model)."""
+        self._cache.clear()
+        self._keyers.clear()
+
     def of(self, node) -> Scope:
         s = self._cache.get(id(node))
         if s is None:

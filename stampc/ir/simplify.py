@@ -17,6 +17,7 @@ from stampc.ir import lifted as L
 from stampc.ir.ground_context import AtomKey, GroundingContext, fail, located
 from stampc.ir.grounded import GAnd, GFormula, GLit, GOr, GroundCondition
 from stampc.ir.guards import GuardedExpander, effect_guards, formula_guards
+from stampc.ir.masks import from_indices
 from stampc.ir.scope import ScopeAnalysis
 
 #: Result of simplification: a constant or a ground formula.
@@ -63,19 +64,17 @@ def to_condition(f: Simplified) -> GroundCondition:
         return GroundCondition()
     if f is False:
         return NEVER
-    pos = neg = 0
+    pos: list[int] = []
+    neg: list[int] = []
     rest: list[GFormula] = []
     for part in (f.args if isinstance(f, GAnd) else (f,)):
         if isinstance(part, GLit):
-            if part.positive:
-                pos |= 1 << part.fact
-            else:
-                neg |= 1 << part.fact
+            (pos if part.positive else neg).append(part.fact)
         else:
             rest.append(part)
-    if pos & neg:
+    if pos and neg and not set(pos).isdisjoint(neg):
         return NEVER
-    return GroundCondition(pos, neg, tuple(rest))
+    return GroundCondition(from_indices(pos), from_indices(neg), tuple(rest))
 
 
 class FactTable:
@@ -114,6 +113,14 @@ class Simplifier:
         self._guards: dict[tuple[int, bool], list[L.Atom]] = {}
         #: location used in diagnostics raised while grounding the current declaration
         self.span = located(None, ctx.model)
+
+    def forget_nodes(self) -> None:
+        """Drop the caches keyed by lifted nodes (memo, guards, scopes): nodes of an
+        action schema already ground are not met again, and keeping them for every
+        schema made grounding memory grow several kB per action."""
+        self.memo.clear()
+        self._guards.clear()
+        self.scopes.clear()
 
     def args(self, terms: tuple[L.Term, ...], env: Env) -> tuple[str, ...]:
         # hot path: a list comprehension and exact type checks are ~2x faster here

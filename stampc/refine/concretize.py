@@ -16,6 +16,7 @@ from typing import Any, Iterator, Mapping
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.grounded import GroundAction, GroundModel, Successor, bits
+from stampc.ir.masks import indices
 from stampc.refine.outcomes import outcome_labels
 from stampc.worlds.base import ConcreteAction, Context, Outcome, call_executor
 from stampc.worlds.bindings import ResolvedBindings
@@ -70,8 +71,8 @@ class Concretizer:
         """(fact, required value) for the ``?`` literals of the action's precondition."""
         if action.index not in self._checks:
             pre = action.precondition
-            out = [(bit, value) for value, mask in ((True, pre.pos), (False, pre.neg))
-                   for bit in bits(mask) if self.model.facts[bit].predicate in self._unknowable]
+            out = [(bit, value) for value, facts in ((True, pre.pos_facts), (False, pre.neg_facts))
+                   for bit in indices(facts) if self.model.facts[bit].predicate in self._unknowable]
             self._checks[action.index] = tuple(sorted(out))
         return self._checks[action.index]
 

@@ -12,12 +12,14 @@ from __future__ import annotations
 
 from stampc.ir.grounded import GEffect, GroundCondition
 
-#: (add, delete, cost, whens, blocks); blocks are (no-op mass, ((p, sub-effect), ...)).
+#: (add, delete, cost, whens, blocks); whens are ((pos, neg, condition or None), sub-effect)
+#: with the condition kept when it has a remainder (or sparse fact sets) to evaluate;
+#: blocks are (no-op mass, ((p, sub-effect), ...)).
 FloatEffect = tuple
 
 
 def compile_effect(effect: GEffect, unit_cost: bool) -> FloatEffect:
-    whens = tuple((cond, compile_effect(sub, unit_cost))
+    whens = tuple((condition_check(cond), compile_effect(sub, unit_cost))
                   for cond, sub in effect.whens if not cond.never)
     blocks = tuple((float(1 - sum(p for p, _ in block.outcomes)),
                     tuple((float(p), compile_effect(sub, unit_cost)) for p, sub in block.outcomes))
@@ -45,7 +47,17 @@ def branches(effect: FloatEffect, state: int) -> list[tuple[float, int, int, flo
     return result
 
 
-def _holds(cond: GroundCondition, state: int) -> bool:
-    if (state & cond.pos) != cond.pos or (state & cond.neg):
+def condition_check(cond: GroundCondition) -> tuple[int, int, GroundCondition | None]:
+    """(pos, neg, condition to call or None): ``state`` satisfies ``cond`` iff
+    ``state & pos == pos``, ``not state & neg`` and the condition, if any, holds."""
+    pos, neg = cond.pos_facts, cond.neg_facts
+    if pos.__class__ is int and neg.__class__ is int:
+        return pos, neg, cond if cond.rest else None
+    return 0, 0, cond  # sparse: an int per condition would be as large as the model
+
+
+def _holds(check: tuple[int, int, GroundCondition | None], state: int) -> bool:
+    pos, neg, cond = check
+    if (state & pos) != pos or (state & neg):
         return False
-    return not cond.rest or cond.holds(state)
+    return cond is None or cond.holds(state)

@@ -32,6 +32,7 @@ from fractions import Fraction
 from typing import Callable
 
 from stampc.ir.grounded import GAnd, GEffect, GFormula, GLit, GroundCondition, GroundModel
+from stampc.ir.masks import indices
 from stampc.solvers.names import ADMISSIBLE, HEURISTICS  # noqa: F401  (re-exported)
 from stampc.solvers.successors import iter_bits
 
@@ -52,7 +53,7 @@ def _must_facts(formulas: tuple[GFormula, ...], n: int) -> set[int]:
 
 def condition_facts(cond: GroundCondition, n: int) -> frozenset[int]:
     """Relaxed literals of a condition over a model with ``n`` facts."""
-    return frozenset(set(iter_bits(cond.pos)) | {n + f for f in iter_bits(cond.neg)}
+    return frozenset(set(indices(cond.pos_facts)) | {n + f for f in indices(cond.neg_facts)}
                      | _must_facts(cond.rest, n))
 
 

@@ -12,11 +12,12 @@ triggered by its true facts instead of scanning every action.
 
 from __future__ import annotations
 
-from typing import Iterator
+from typing import Iterator, Sequence
 
-from stampc.ir.grounded import bits as iter_bits
-from stampc.ir.grounded import GroundAction, GroundCondition, GroundModel
-from stampc.solvers.float_effects import branches, compile_effect
+from stampc.ir.grounded import bits as iter_bits  # noqa: F401  (re-exported)
+from stampc.ir.grounded import GroundAction, GroundModel
+from stampc.ir.masks import FactSet, indices
+from stampc.solvers.float_effects import branches, compile_effect, condition_check
 
 #: A solver transition: (action index, expected cost, probabilities, next states).
 Transition = tuple[int, float, tuple[float, ...], tuple[int, ...]]
@@ -40,9 +41,7 @@ class SuccessorCache:
     def __init__(self, model: GroundModel, unit_cost: bool = False):
         self.model = model
         self.unit_cost = unit_cost
-        self._checks: list[tuple[int, int, GroundCondition | None]] = [
-            (a.precondition.pos, a.precondition.neg, a.precondition if a.precondition.rest else None)
-            for a in model.actions]
+        self._checks = [condition_check(a.precondition) for a in model.actions]
         # Float outcome lists of state-independent actions, built on first use: models such
         # as rectangle-tireworld ground 10^5 actions of which a search touches few.
         self._static: list = [_UNSET] * len(model.actions)
@@ -73,12 +72,12 @@ class SuccessorCache:
     @staticmethod
     def _build_index(model: GroundModel) -> tuple[dict[int, list[int]], list[int]]:
         usage: dict[int, int] = {}
-        facts_of: dict[int, list[int]] = {}  # many actions share a precondition mask
+        facts_of: dict[FactSet, Sequence[int]] = {}  # many actions share a precondition mask
         for action in model.actions:
-            pos = action.precondition.pos
+            pos = action.precondition.pos_facts
             facts = facts_of.get(pos)
             if facts is None:
-                facts = facts_of[pos] = list(iter_bits(pos))
+                facts = facts_of[pos] = indices(pos)
             for f in facts:
                 usage[f] = usage.get(f, 0) + 1
         by_fact: dict[int, list[int]] = {}
@@ -87,7 +86,7 @@ class SuccessorCache:
             pre = action.precondition
             if pre.never:
                 continue  # never applicable: simply not indexed
-            facts = facts_of[pre.pos]
+            facts = facts_of[pre.pos_facts]
             if not facts:
                 unindexed.append(index)
                 continue
