@@ -9,11 +9,13 @@ world and writing the outputs).
     python bench/timelimit.py                    # T = 2, 10, 60 on cluttered-25 s2 and keva tower-12
     python bench/timelimit.py --limits 5 --instances cluttered
     python bench/timelimit.py --limits 2 10 --classes   # seed 0 of every bench/paper.py class
+    python bench/timelimit.py --classes 'aircraft|keva'  # ... of the classes matching a regex
 """
 
 from __future__ import annotations
 
 import argparse
+import re
 import json
 import subprocess
 import sys
@@ -38,7 +40,7 @@ def instances(tmp: Path, which: list[str]) -> list[tuple[str, list[Path]]]:
     return out
 
 
-def class_instances(tmp: Path) -> list[tuple[str, list[Path]]]:
+def class_instances(tmp: Path, pattern: str = "") -> list[tuple[str, list[Path]]]:
     """Seed 0 of every class of ``bench/paper.py`` (the paper's and the beyond-paper
     ones), made by the same generator call as the benchmark."""
     sys.path.insert(0, str(ROOT / "bench"))
@@ -46,7 +48,7 @@ def class_instances(tmp: Path) -> list[tuple[str, list[Path]]]:
     from paper_classes import CLASSES
 
     out = []
-    for cls in CLASSES:
+    for cls in (c for c in CLASSES if re.search(pattern, c.name)):
         folder = tmp / cls.name
         folder.mkdir(parents=True, exist_ok=True)
         domain, problem = make_problem(cls, 0, folder)
@@ -58,11 +60,12 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--limits", type=float, nargs="*", default=[2.0, 10.0, 60.0])
     parser.add_argument("--instances", nargs="*", default=["cluttered", "keva"])
-    parser.add_argument("--classes", action="store_true",
-                        help="instead: seed 0 of every bench/paper.py class")
+    parser.add_argument("--classes", nargs="?", const="", default=None, metavar="REGEX",
+                        help="instead: seed 0 of every bench/paper.py class (or those matching REGEX)")
     args = parser.parse_args()
     tmp = Path(tempfile.mkdtemp(prefix="timelimit-bench-"))
-    cases = class_instances(tmp) if args.classes else instances(tmp, args.instances)
+    cases = (class_instances(tmp, args.classes) if args.classes is not None
+             else instances(tmp, args.instances))
     worst = 0.0
     print(f"{'instance':<18} {'T s':>6} {'engine s':>9} {'overrun s':>9} {'allowed s':>9} "
           f"{'process s':>9} {'exit':>4} {'coverage':>8}")
