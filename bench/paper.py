@@ -222,6 +222,19 @@ def _anytime(records: list[RunRecord], out: Path, path: Path) -> None:
     plt.close(fig)
 
 
+def report(files: list[str]) -> int:
+    """The table of the runs recorded in ``files`` (``runs.json`` of earlier runs)."""
+    by_key: dict[tuple[str, int], RunRecord] = {}
+    for f in files:
+        for raw in json.loads(Path(f).read_text()):
+            rec = RunRecord(**raw)
+            by_key[(rec.cls, rec.seed)] = rec
+    records = list(by_key.values())
+    names = {r.cls for r in records}
+    print(table(records, tuple(c for c in CLASSES if c.name in names)))
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="reproduce the paper's table on PyBullet")
     ap.add_argument("--runs", type=int, default=10, help="seeds per class (default 10)")
@@ -233,7 +246,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=2, help="parallel runs (default 2)")
     ap.add_argument("--seed-base", type=int, default=0, help="seed of each class's first run")
     ap.add_argument("--out", default=str(REPO / "bench" / "out" / "paper"))
+    ap.add_argument("--report", nargs="+", metavar="RUNS_JSON",
+                    help="run nothing: print the table of earlier runs.json files (a later "
+                         "file's run of a class and seed replaces an earlier one's)")
     args = ap.parse_args(argv)
+    if args.report:
+        return report(args.report)
     classes = tuple(c for c in CLASSES if re.search(args.classes, c.name)
                     and (args.beyond or args.classes or not c.beyond))
     runs = 1 if args.quick else args.runs
