@@ -30,13 +30,12 @@ from typing import Any, Iterator
 import networkx as nx
 
 from stampc.ir.grounded import GroundModel
+from stampc.refine.backtracking import Backtracking
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
                                  abstract_goal_probability, count_covered_paths, coverage,
-                                 dead_end_mass, goal_probability,
-                                 path_values, select_path)
+                                 dead_end_mass, goal_probability, path_values, select_path)
 from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
-from stampc.refine.backtracking import Backtracking
 from stampc.refine.planner import AbstractPlanner
 from stampc.worlds.bindings import ResolvedBindings
 
