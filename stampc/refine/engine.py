@@ -246,13 +246,23 @@ class Engine(Backtracking):
         if not isinstance(result, Success) and self.concretizer.past_deadline():
             return "stopped", f"{action.label}: time limit reached while sampling"
         if isinstance(result, Success):
-            self._commit(graph, node, result.sigma, values)
+            if not self._commit(graph, node, result.sigma, values):
+                # its outcomes would merge into a loop with no way out: the policy above
+                # was planned before later bans; give the action up here and replan
+                self._notes.append(f"{action.label}: its outcomes close a loop with no way out")
+                self.planner.forbidden.add((node.state, node.action))
+                self._bans[(node.state, node.action)] = node.uid
+                return self._update(graph, node, (), "ban", path)
             self._track(self.current, graph)
             return "refined", action.label
         return self._on_failure(graph, path, result)
 
-    def _commit(self, graph: PolicyGraph, node: Node, sigma, values) -> None:
-        """Refine ``node`` with ``sigma``; execute each outcome to get child states."""
+    def _commit(self, graph: PolicyGraph, node: Node, sigma, values) -> bool:
+        """Refine ``node`` with ``sigma``; execute each outcome to get child states.
+        Children equal to existing nodes are merged into them — unless that would leave
+        ``node`` in a loop with no way out (no leaf reachable): then nothing is committed
+        and False is returned."""
+        before = list(node.edges)
         node.sigma = sigma
         action = self.model.actions[node.action]
         env = {**values, **sigma}
@@ -267,7 +277,11 @@ class Engine(Backtracking):
                 target = self._claim(graph, edge.child, snap, key)
             if target != edge.child:
                 node.edges[k] = replace(edge, child=target)
+        trapped = not any(graph[u].is_leaf for u in graph.reachable(node.uid))
+        if trapped:
+            node.sigma, node.edges = None, before
         graph.prune()
+        return not trapped
 
     def _claim(self, graph: PolicyGraph, uid: int, snap: Any, key: Any) -> int:
         """Give node ``uid`` the concrete state ``snap``; if another parent already gave

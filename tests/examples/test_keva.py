@@ -250,3 +250,22 @@ def test_refine_pi1_to_full_coverage_and_replay(tmp_path):
 def test_refine_3pi_to_full_coverage_and_replay(tmp_path):
     run = _refine_and_replay(tmp_path, "pi", 3, 0, 600)
     assert run.result.refined_nodes <= 200  # branches merge: no 2^9 tree of refinements
+
+
+@pytest.mark.slow
+def test_a_hand_over_loop_with_no_way_out_is_refused_and_replanned(tmp_path):
+    """3π seed 5: after three feed-2 arrivals a hand-over's outcome equals an ancestor's
+    state (abstract and concrete); merging into it closed a loop with no way out, which
+    held 0.64 % of the mass for good (coverage 0.9936 after 300 s). The engine now refuses
+    such a merge, bans the action there and replans, and the run completes."""
+    problem = kv.write_problem(tmp_path / "p.stamp", "pi", 3, 5)
+    events = []
+    run = refine_policy([DOMAIN, problem], world="pybullet",
+                        options=RefineOptions(seed=5, time_limit=300, target_coverage=0.999),
+                        on_event=events.append)
+    assert any("loop with no way out" in e.detail for e in events)
+    assert run.result.coverage >= 0.999
+    graph = run.graph
+    trapped = [u for u in graph.reachable()
+               if not any(graph[v].is_leaf for v in graph.reachable(u))]
+    assert trapped == []
