@@ -277,7 +277,8 @@ class Engine(Backtracking):
                 target = self._claim(graph, edge.child, snap, key)
             if target != edge.child:
                 node.edges[k] = replace(edge, child=target)
-        trapped = not any(graph[u].is_leaf for u in graph.reachable(node.uid))
+        trapped = any(e.child != b.child for e, b in zip(node.edges, before)) \
+            and not graph.reaches_leaf(node.uid)
         if trapped:
             node.sigma, node.edges = None, before
         graph.prune()

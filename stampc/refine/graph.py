@@ -101,6 +101,24 @@ class PolicyGraph:
             stack.extend(e.child for e in reversed(self.nodes[uid].edges))
         return order
 
+    def reaches_leaf(self, start: int) -> bool:
+        """Whether some leaf is reachable from ``start`` (breadth first, stopping at the
+        first: cheap wherever the answer is yes, the usual case)."""
+        seen = {start}
+        frontier = [start]
+        while frontier:
+            nxt = []
+            for uid in frontier:
+                node = self.nodes[uid]
+                if node.is_leaf:
+                    return True
+                for e in node.edges:
+                    if e.child not in seen:
+                        seen.add(e.child)
+                        nxt.append(e.child)
+            frontier = nxt
+        return False
+
     def prune(self) -> None:
         """Drop nodes no longer reachable from the root."""
         keep = set(self.reachable())

@@ -192,3 +192,10 @@ def test_count_covered_paths_matches_enumeration_and_scales():
         spec[a + 2] = ("act", True, [(1.0, nxt)])
     spec[120] = ("leaf", GOAL)
     assert count_covered_paths(build(spec)) == 2 ** 40
+
+
+def test_reaches_leaf_sees_loops_with_and_without_a_way_out():
+    closed = build({0: ("act", True, [(1.0, 1)]), 1: ("act", True, [(1.0, 0)])})
+    assert not closed.reaches_leaf(0) and not closed.reaches_leaf(1)
+    retry = build({0: ("act", True, [(0.2, 0), (0.8, 1)]), 1: ("leaf", GOAL)})
+    assert retry.reaches_leaf(0)
