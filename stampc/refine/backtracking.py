@@ -5,7 +5,7 @@ file reads in one sitting; it uses the engine's PRG, planner, options and uid co
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Iterator
+from typing import TYPE_CHECKING, Callable, Iterator
 
 from stampc.refine.graph import Node, PolicyGraph, detach_subtree
 
@@ -27,10 +27,8 @@ class Backtracking:
     model: "GroundModel"
     uids: "Iterator[int]"
     _bans: dict[tuple[int, int], int]
-
-    def _track(self, prg_node: int, graph: PolicyGraph) -> None:
-        """The engine's best-policy bookkeeping (defined by the engine)."""
-        raise NotImplementedError
+    #: the engine's best-policy bookkeeping (``Engine._track``)
+    _track: "Callable[[int, PolicyGraph], None]"
 
     def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...]) -> Node | None:
         """The refined ancestor (with generated values) re-sampled least often so far,
