@@ -65,7 +65,9 @@ TIREWORLD="$REPO/../shared/benchmarks/ppddl/ippc2006-tireworld/p03.pddl"
 if [[ -f "$TIREWORLD" ]]; then  # the README's solve example, where the benchmarks exist
     expect 0 "$WORK/elsewhere" "$STAMPC" solve "$TIREWORLD" --unit-cost
 fi
-expect 0 "$CLONE" "$STAMPC" refine examples/cluttered_table/domain_fixed.stamp examples/cluttered_table/problem2d.stamp \
+expect 0 "$WORK/elsewhere" "$STAMPC" refine "$EX/cluttered_table/domain.stamp" "$EX/cluttered_table/problem2d.stamp" \
+       --world plane2d --time-limit 60 -o mobile2d/
+expect 0 "$CLONE" "$STAMPC" refine examples/cluttered_table/domain_fixed.stamp examples/cluttered_table/problem2d_fixed.stamp \
        --world plane2d --time-limit 60 -o out2d/
 expect 0 "$CLONE" "$STAMPC" refine examples/cluttered_table/domain.stamp examples/cluttered_table/problem.stamp \
        --world pybullet --time-limit 120 -o out/

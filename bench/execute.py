@@ -34,8 +34,10 @@ EXAMPLES = {
     "aircraft_inspection": ("pybullet", EX / "aircraft_inspection/domain.stamp",
                             EX / "aircraft_inspection/problem.stamp"),
     "shelf2d": ("plane2d", EX / "shelf2d/domain.stamp", EX / "shelf2d/problem.stamp"),
-    "cluttered_table_2d": ("plane2d", EX / "cluttered_table/domain_fixed.stamp",
+    "cluttered_table_2d": ("plane2d", EX / "cluttered_table/domain.stamp",
                            EX / "cluttered_table/problem2d.stamp"),
+    "cluttered_table_2d_fixed": ("plane2d", EX / "cluttered_table/domain_fixed.stamp",
+                                 EX / "cluttered_table/problem2d_fixed.stamp"),
     "slip2d": ("plane2d", EX / "slip2d/domain.stamp", EX / "slip2d/problem.stamp"),
 }
 

@@ -15,7 +15,7 @@ from .paths import EXAMPLES
 
 SHELF = EXAMPLES / "shelf2d"
 CLUTTERED = EXAMPLES / "cluttered_table"
-DOMAIN, PROBLEM2D = str(CLUTTERED / "domain_fixed.stamp"), str(CLUTTERED / "problem2d.stamp")
+DOMAIN, PROBLEM2D = str(CLUTTERED / "domain_fixed.stamp"), str(CLUTTERED / "problem2d_fixed.stamp")
 
 FLOAT_LIMITS = [("solve", "--time-limit"), ("solve", "--epsilon"), ("solve", "--dead-end-cost"),
                 ("refine", "--time-limit")]

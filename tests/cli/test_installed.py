@@ -57,19 +57,22 @@ def test_solve_stamp_and_ppddl(cli, checkout, elsewhere):
     assert (elsewhere / "policy.json").is_file()
 
 
-def test_refine_plane2d_then_execute(cli, checkout):
-    """The README's refine command on the 2-D variant: the scene builder module
-    ``examples.cluttered_table.scene`` is not importable from here and is loaded from
-    the file beside the problem (its ``@dataclass`` needs it in ``sys.modules``)."""
-    refine = cli.run("refine", "examples/cluttered_table/domain_fixed.stamp",
-                     "examples/cluttered_table/problem2d.stamp", "--world", "plane2d",
+@pytest.mark.parametrize("domain, problem", [("domain.stamp", "problem2d.stamp"),
+                                             ("domain_fixed.stamp", "problem2d_fixed.stamp")])
+def test_refine_plane2d_then_execute(cli, checkout, domain, problem):
+    """The README's refine command on the 2-D world (the paper's mobile-base scene, and
+    the fixed-base one): the scene builder module ``examples.cluttered_table.scene`` is
+    not importable from here and is loaded from the file beside the problem (its
+    ``@dataclass`` needs it in ``sys.modules``)."""
+    refine = cli.run("refine", f"examples/cluttered_table/{domain}",
+                     f"examples/cluttered_table/{problem}", "--world", "plane2d",
                      "--time-limit", "60", "--quiet", "-o", "out/", cwd=checkout)
     assert refine.code == 0, refine.err
     assert "coverage 1.0000" in refine.out
     policy = json.loads((checkout / "out" / "policy.json").read_text(encoding="utf-8"))
     # paths relative to policy.json (issue 13), the absolute ones kept as a fallback:
     # execute works from anywhere
-    assert policy["files"][0] == "../examples/cluttered_table/domain_fixed.stamp"
+    assert policy["files"][0] == f"../examples/cluttered_table/{domain}"
     assert all(Path(e["absolute"]).is_absolute() for e in policy["provenance"]["inputs"])
     execute = cli.run("execute", str(checkout / "out" / "policy.json"), "--runs", "3",
                       "--seed", "1", cwd=checkout.parent)

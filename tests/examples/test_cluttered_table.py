@@ -1,7 +1,7 @@
 """End-to-end tests of the cluttered-table example: the paper's scene (mobile base,
-random target) refined on PyBullet + OMPL to full coverage and replayed; the fixed-base
-scene with arranged blockers (learned obstructions) on PyBullet and plane2d; determinism.
-Real worlds, no mocks."""
+random target) refined on PyBullet + OMPL and on plane2d to full coverage and replayed;
+the fixed-base scene with arranged blockers (learned obstructions) on PyBullet and
+plane2d; determinism. Real worlds, no mocks."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ FIXED = EXAMPLE / "domain_fixed.stamp"
 
 
 def _refine(problem: Path, world: str, seed: int = 0, limit: float = 90.0, domain=None):
-    domain = domain or (DOMAIN if world == "pybullet" else FIXED)
+    domain = domain or DOMAIN
     return refine_policy([domain, problem], world=world,
                          options=RefineOptions(seed=seed, time_limit=limit))
 
@@ -57,6 +57,8 @@ def test_problem_file_matches_generator():
     assert text == ct.problem_text(15, 0, "mid", "pybullet")
     text2d = (EXAMPLE / "problem2d.stamp").read_text(encoding="utf-8")
     assert text2d == ct.problem_text(15, 0, "mid", "plane2d")
+    fixed2d = (EXAMPLE / "problem2d_fixed.stamp").read_text(encoding="utf-8")
+    assert fixed2d == ct.problem_text(15, 0, "mid", "plane2d-fixed")
     fixed = (EXAMPLE / "problem_fixed.stamp").read_text(encoding="utf-8")
     assert fixed == ct.problem_text(15, 0, "mid", "pybullet-fixed")
 
@@ -135,8 +137,8 @@ def test_learned_obstructions_are_real_blockers(fixed_run):
     assert root["action"].split("(")[1].split(",")[0] in blockers
 
 
-def test_plane2d_variant():
-    run = _refine(EXAMPLE / "problem2d.stamp", "plane2d")
+def test_plane2d_fixed_variant():
+    run = _refine(EXAMPLE / "problem2d_fixed.stamp", "plane2d", domain=FIXED)
     assert run.result.coverage == pytest.approx(1.0)
     policy = run.to_json()
     named = {f.split("(")[1].split(",")[0] for f, v in _learned(policy)
@@ -144,6 +146,45 @@ def test_plane2d_variant():
     assert named and named <= set(policy["scene"]["meta"]["blockers"])
     report = _replay(policy, "plane2d", runs=20, seed=2)
     assert report.count("failure") == 0 and report.count("unrefined") == 0
+
+
+def _base_sequence_ok(actions: list[str], start: str) -> int:
+    """Every pick names the base the robot stands at (tracked through move_base);
+    returns how many picks were checked."""
+    base, picks = start, 0
+    for action in actions:
+        name, args = action.split("(")[0], action.split("(")[1].rstrip(")").split(", ")
+        if name == "move_base":
+            assert args[0] == base, f"{action} while standing at {base}"
+            base = args[1]
+        elif name == "pick":
+            assert args[2] == base, f"{action} while standing at {base}"
+            picks += 1
+    return picks
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_plane2d_mobile_scene(tmp_path, seed):
+    """The paper's scene on plane2d (domain.stamp). In seed 1 two cans stand between the
+    start base and the target: refinement learns those collisions and the policy drives
+    to another base (cost 2) rather than clearing them."""
+    problem = EXAMPLE / "problem2d.stamp" if seed == 0 else \
+        ct.write_problem(tmp_path / "p.stamp", 15, seed, "mid", world="plane2d")
+    run = _refine(problem, "plane2d")
+    assert run.result.coverage == pytest.approx(1.0)
+    policy = run.to_json()
+    start, target = policy["scene"]["robot"]["start"], policy["scene"]["meta"]["target"]
+    report = _replay(policy, "plane2d", runs=20, seed=2)
+    assert report.count("failure") == 0 and report.count("unrefined") == 0
+    assert report.count("success") == 20
+    for r in report.runs:
+        assert _base_sequence_ok(list(r.actions), start) >= 1
+        assert any(a.startswith(f"pick({target},") for a in r.actions)
+    if seed == 1:
+        blocked = [f for f, v in _learned(policy) if v and f.startswith("collision(")
+                   and f.endswith(f"t_pick_{target}_pose_{target}_{start})")]
+        assert len(blocked) >= 1
+        assert all(r.actions[0].startswith(f"move_base({start}, ") for r in report.runs)
 
 
 def test_same_seed_same_policy(pybullet_run):

@@ -15,7 +15,7 @@ import sys
 from typing import Any, Iterator
 
 from stampc.worlds.base import ConcreteAction, Context
-from stampc.worlds.plane2d.geometry import Disc, ray_exit_rounded_box
+from stampc.worlds.plane2d.geometry import Disc, Point, ray_exit_rounded_box
 from stampc.worlds.plane2d.planning import rrt_connect
 from stampc.worlds.plane2d.support import (arg, float_option, int_option, mentions,
                                            name_arg, normalize_angle, world_of)
@@ -41,14 +41,15 @@ def grasp_config(world: Plane2DWorld, o: str, p: Pose2, angle: float) -> Config2
     return Config2(p.x + d * math.cos(direction), p.y + d * math.sin(direction), target=o)
 
 
-def facing_angle(world: Plane2DWorld, p: Pose2) -> float:
-    """Approach angle (object frame) pointing from the object towards the robot base."""
-    return normalize_angle(angle_to(p.xy, world.scene.robot.base) - p.theta)
+def facing_angle(world: Plane2DWorld, p: Pose2, base: Point | None = None) -> float:
+    """Approach angle (object frame) pointing from the object towards the robot base
+    (where it stands, or ``base``)."""
+    return normalize_angle(angle_to(p.xy, base or world.base) - p.theta)
 
 
-def _approach_angles(world: Plane2DWorld, p: Pose2) -> list[float]:
+def _approach_angles(world: Plane2DWorld, p: Pose2, base: Point | None = None) -> list[float]:
     """Facing the base first, then alternately either side of it, then behind."""
-    base = facing_angle(world, p)
+    base = facing_angle(world, p, base)
     step = 2 * math.pi / N_APPROACHES
     angles = [base]
     for k in range(1, N_APPROACHES // 2):
@@ -57,9 +58,9 @@ def _approach_angles(world: Plane2DWorld, p: Pose2) -> list[float]:
     return [normalize_angle(a) for a in angles]
 
 
-def _config_ok(world: Plane2DWorld, q: Config2) -> bool:
+def _config_ok(world: Plane2DWorld, q: Config2, base: Point | None = None) -> bool:
     gripper = Disc(q.x, q.y, world.scene.robot.gripper_radius)
-    return world.admissible(q.xy) and not world.static_overlap(gripper)
+    return world.admissible(q.xy, base) and not world.static_overlap(gripper)
 
 
 def grasp(ctx: Context, o: str, p: Any) -> Iterator[tuple[Grasp2, Config2]]:

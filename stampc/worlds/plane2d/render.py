@@ -76,7 +76,9 @@ def render_figure(world: Plane2DWorld, *, state: WorldState | None = None,
         gx, gy = world.gripper
         ax.add_patch(Circle((gx, gy), scene.robot.gripper_radius, facecolor="none",
                             edgecolor=_COLORS["gripper"], lw=1.5))
-        bx, by = scene.robot.base
+        for _, (x, y) in scene.robot.bases:      # candidate bases of a mobile robot
+            ax.plot([x], [y], marker="s", color="none", markeredgecolor="grey", ms=5)
+        bx, by = world.base
         ax.plot([bx], [by], marker="s", color="black", ms=5)
         if world.uav is not None and scene.uav is not None:
             ax.add_patch(Circle(world.uav, scene.uav.radius, facecolor=_COLORS["uav"],

@@ -62,9 +62,16 @@ class ObjectSpec:
 
 @dataclass(frozen=True)
 class Robot:
+    """The gripper's reach disc around ``base`` (where the robot starts). A mobile robot
+    also lists named candidate ``bases`` (name, position) it may drive between."""
+
     base: tuple[float, float]
     gripper_radius: float
     reach: float
+    bases: tuple[tuple[str, tuple[float, float]], ...] = ()
+
+    def base_named(self, name: str) -> tuple[float, float] | None:
+        return dict(self.bases).get(name)
 
 
 @dataclass(frozen=True)
@@ -207,9 +214,7 @@ def parse_scene(data: Any, *, source: str = "<scene>") -> Scene:
     table = p.rect(data.get("table"), "table")
     robot_data = data.get("robot")
     if isinstance(robot_data, Mapping):
-        robot = Robot(p.pair(robot_data.get("base"), "robot.base"),
-                      p.number(robot_data, "gripper_radius", "robot", positive=True),
-                      p.number(robot_data, "reach", "robot", positive=True))
+        robot = _robot(p, robot_data)
     else:
         p.fail("robot", 'missing {"base": [x, y], "gripper_radius": r, "reach": R}')
         robot = Robot((0.0, 0.0), 1.0, 1.0)
@@ -263,11 +268,43 @@ def _uav(p: _Parser, v: Any, regions: dict[str, Rect]) -> UavSpec | None:
                    p.number(v, "radius", "uav", positive=True, default=0.05))
 
 
+def _robot(p: _Parser, data: Mapping) -> Robot:
+    """``{"base": [x, y], ...}`` or, for a mobile robot, ``{"bases": [{"name": "b0",
+    "base": [x, y]}, ...], "start": "b0", ...}`` (``base`` then defaults to the start's)."""
+    radius = p.number(data, "gripper_radius", "robot", positive=True)
+    reach = p.number(data, "reach", "robot", positive=True)
+    if "bases" not in data:
+        return Robot(p.pair(data.get("base"), "robot.base"), radius, reach)
+    bases = _bases(p, data["bases"])
+    start = data.get("start", bases[0][0] if bases else None)
+    where = dict(bases).get(start) if isinstance(start, str) else None
+    if bases and where is None:
+        p.fail("robot.start", f"must name one of the robot's bases, got {start!r}",
+               hint="bases: " + ", ".join(n for n, _ in bases))
+    base = p.pair(data["base"], "robot.base") if "base" in data else (where or (0.0, 0.0))
+    return Robot(base, radius, reach, bases)
+
+
+def _bases(p: _Parser, v: Any) -> tuple[tuple[str, tuple[float, float]], ...]:
+    if not isinstance(v, Sequence) or isinstance(v, str) or not v:
+        p.fail("robot.bases", 'must be a non-empty list of {"name": ..., "base": [x, y]}')
+        return ()
+    out: dict[str, tuple[float, float]] = {}
+    for i, item in enumerate(v):
+        name = item.get("name") if isinstance(item, Mapping) else None
+        if not isinstance(name, str) or not name or name in out:
+            p.fail(f"robot.bases[{i}].name", f"must be a new non-empty string, got {name!r}")
+            continue
+        out[name] = p.pair(item.get("base"), f"robot.bases[{i}].base")
+    return tuple(out.items())
+
+
 def _default_workspace(table: Rect, robot: Robot, surfaces, regions) -> Rect:
     rects = [table] + [r for _, r in surfaces] + [r for _, r in regions]
     pad = robot.gripper_radius
-    xs = [r.x0 for r in rects] + [robot.base[0] - pad]
-    ys = [r.y0 for r in rects] + [robot.base[1] - pad]
-    xe = [r.x1 for r in rects] + [robot.base[0] + pad]
-    ye = [r.y1 for r in rects] + [robot.base[1] + pad]
+    stands = [robot.base] + [xy for _, xy in robot.bases]
+    xs = [r.x0 for r in rects] + [x - pad for x, _ in stands]
+    ys = [r.y0 for r in rects] + [y - pad for _, y in stands]
+    xe = [r.x1 for r in rects] + [x + pad for x, _ in stands]
+    ye = [r.y1 for r in rects] + [y + pad for _, y in stands]
     return Rect(min(xs) - pad, min(ys) - pad, max(xe) + pad, max(ye) + pad)

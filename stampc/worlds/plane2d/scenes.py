@@ -91,6 +91,43 @@ def cluttered(n: int, seed: int, *, target: str = "can0", blockers: int = 2,
     }
 
 
+#: candidate bases of the mobile robot around the table (near, far, left, right edge)
+MOBILE_BASES = (("b0", (0.5, -0.12)), ("b1", (0.5, 0.72)), ("b2", (-0.12, 0.3)),
+                ("b3", (1.12, 0.3)))
+MOBILE_REACH = 0.55  # m: from one base the gripper covers about half the table
+
+
+def cluttered_mobile(n: int, seed: int, *, radius: float = 0.035,
+                     gap: float = 0.01) -> dict[str, Any]:
+    """``n`` cans uniformly at random on the 1 m × 0.6 m table and a random target (the
+    paper's scene, nothing arranged), for a robot that stands at one of
+    :data:`MOBILE_BASES` (the start drawn from the seed) and reaches
+    :data:`MOBILE_REACH` from it, so which base reaches a can is part of the problem."""
+    if n < 1:
+        raise _fail(f"need at least one can, got {n}")
+    rng = random.Random(f"mobile:{seed}")
+    placed: list[tuple[float, float, float]] = []
+    objects = []
+    for i in range(n):
+        x, y = _sample(rng, placed, radius, gap, f"can{i}", lambda: (
+            rng.uniform(radius, TABLE["x1"] - radius), rng.uniform(radius, TABLE["y1"] - radius)),
+            tray=None)
+        objects.append({"name": f"can{i}", "shape": "disc", "radius": radius, "x": x, "y": y,
+                        "theta": 0.0})
+    bases = [{"name": b, "base": list(xy)} for b, xy in MOBILE_BASES]
+    start = bases[rng.randrange(len(bases))]["name"]
+    return {
+        "table": dict(TABLE),
+        "robot": {"bases": bases, "start": start, "gripper_radius": ROBOT["gripper_radius"],
+                  "reach": MOBILE_REACH},
+        "surfaces": {"table": dict(TABLE)},
+        "objects": objects,
+        "poses": {f"pose_can{i}": f"can{i}" for i in range(n)},
+        "meta": {"target": f"can{rng.randrange(n)}", "bases": [b for b, _ in MOBILE_BASES],
+                 "seed": seed},
+    }
+
+
 def _corridor_point(rng: random.Random, grasp, u, reach_r: float, lateral: float,
                     far: float):
     """A point whose disc crosses the straight gripper path to ``grasp``."""
@@ -131,10 +168,11 @@ def _shelf(target, u, radius: float, reach_r: float, gap: float, length: float) 
 
 
 def _sample(rng: random.Random, placed, radius: float, gap: float, name: str, draw,
-            walls: list[_Wall] = ()):
+            walls: list[_Wall] = (), tray: dict | None = TRAY):
     for _ in range(_TRIES):
         x, y = draw()
-        if _in_rect(x, y, radius, TABLE) and not _near_rect(x, y, radius + gap, TRAY) \
+        if _in_rect(x, y, radius, TABLE) \
+                and not (tray and _near_rect(x, y, radius + gap, tray)) \
                 and _clear(x, y, radius, placed, gap) \
                 and not any(overlaps(Disc(x, y, radius), w.box, gap) for w in walls):
             placed.append((x, y, radius))

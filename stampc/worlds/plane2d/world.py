@@ -23,7 +23,8 @@ from stampc.worlds.plane2d.values import Config2, Pose2, decode
 @dataclass(frozen=True)
 class WorldState:
     """Poses of the objects still in the scene (scene order), gripper, held object and
-    its offset from the gripper centre, UAV position and remaining battery."""
+    its offset from the gripper centre, UAV position and remaining battery, and where
+    the robot's base stands (it moves only for a mobile robot)."""
 
     poses: tuple[tuple[str, Pose2], ...]
     gripper: Point
@@ -31,6 +32,7 @@ class WorldState:
     held_offset: Point = (0.0, 0.0)
     uav: Point | None = None
     battery: float = 0.0
+    base: Point = (0.0, 0.0)
     #: the last path followed (for rendering only: ignored by ==, hash and fingerprint)
     trace: tuple[Point, ...] = field(default=(), compare=False)
 
@@ -47,7 +49,8 @@ class Plane2DWorld:
         self._specs = {o.name: o for o in scene.objects}
         uav = scene.region(scene.uav.start).centre if scene.uav else None
         self._state = WorldState(poses=scene.initial_poses, gripper=scene.robot.base,
-                                 uav=uav, battery=scene.uav.battery if scene.uav else 0.0)
+                                 uav=uav, battery=scene.uav.battery if scene.uav else 0.0,
+                                 base=scene.robot.base)
         self._pose_map: dict[str, Pose2] = dict(self._state.poses)
 
     # ------------------------------------------------------------ protocol
@@ -82,7 +85,7 @@ class Plane2DWorld:
                 (r(state.gripper[0]), r(state.gripper[1])), state.held,
                 (r(state.held_offset[0]), r(state.held_offset[1])),
                 None if state.uav is None else (r(state.uav[0]), r(state.uav[1])),
-                r(state.battery))
+                r(state.battery), (r(state.base[0]), r(state.base[1])))
 
     def decode(self, data: Any) -> Any:
         """Concrete value from its JSON form (used when replaying a policy file)."""
@@ -128,6 +131,18 @@ class Plane2DWorld:
     @property
     def held(self) -> str | None:
         return self._state.held
+
+    @property
+    def base(self) -> Point:
+        """Where the robot's base stands now."""
+        return self._state.base
+
+    def base_position(self, name: str) -> Point:
+        """The position of candidate base ``name`` of a mobile robot."""
+        where = self.scene.robot.base_named(name)
+        if where is None:
+            raise self.unknown("base", name, [n for n, _ in self.scene.robot.bases])
+        return where
 
     @property
     def battery(self) -> float:
@@ -186,10 +201,11 @@ class Plane2DWorld:
         return [n for n, p in self._state.poses
                 if n not in skip and overlaps(shape, self.spec(n).at(p), margin)]
 
-    def admissible(self, p: Point) -> bool:
-        """Gripper centre inside the workspace and within reach of the robot base."""
+    def admissible(self, p: Point, base: Point | None = None) -> bool:
+        """Gripper centre inside the workspace and within reach of the robot base (where
+        it stands now, or ``base``)."""
         return (self.scene.workspace.contains(p[0], p[1])
-                and math.dist(p, self.scene.robot.base) <= self.scene.robot.reach + EPS)
+                and math.dist(p, base or self._state.base) <= self.scene.robot.reach + EPS)
 
     def held_footprints(self, held: str | None) -> tuple[tuple[Point, float], ...]:
         """Bounding discs of object ``held`` carried by the gripper, as (offset, radius).
@@ -232,7 +248,7 @@ class Plane2DWorld:
         return Checker(tuple(disc_names), np.asarray(discs, dtype=float).reshape(-1, 3),
                        tuple(box_names), np.asarray(boxes, dtype=float).reshape(-1, 5),
                        footprints if footprints is not None else self.gripper_footprints(),
-                       self.scene.workspace, self.scene.robot.base,
+                       self.scene.workspace, self._state.base,
                        reach if reach is not None else self.scene.robot.reach)
 
     # ------------------------------------------------------------ mutators
@@ -249,6 +265,19 @@ class Plane2DWorld:
                                                      x=end[0] + ox, y=end[1] + oy))
         trace = tuple((float(x), float(y)) for x, y in points)
         self._set(replace(st, gripper=end, poses=poses, trace=trace))
+
+    def move_base(self, name: str) -> None:
+        """Drive to candidate base ``name``: the gripper is tucked in over the base first
+        and a held object comes along (base motions are not collision-checked)."""
+        to = self.base_position(name)
+        st = self._state
+        poses = st.poses
+        if st.held is not None:
+            ox, oy = st.held_offset
+            poses = self._with_pose(st.held, replace(self._pose_map[st.held],
+                                                     x=to[0] + ox, y=to[1] + oy))
+        # no trace: the base drives around the table, along no path this world models
+        self._set(replace(st, base=to, gripper=to, poses=poses, trace=()))
 
     def attach(self, name: str) -> None:
         pose = self._pose_map.get(name)
@@ -283,7 +312,8 @@ class Plane2DWorld:
     def describe(self) -> str:
         st = self._state
         objs = ", ".join(f"{n}@({p.x:.3f},{p.y:.3f})" for n, p in st.poses)
-        return (f"gripper=({st.gripper[0]:.3f},{st.gripper[1]:.3f}) held={st.held} "
+        return (f"base=({st.base[0]:.3f},{st.base[1]:.3f}) "
+                f"gripper=({st.gripper[0]:.3f},{st.gripper[1]:.3f}) held={st.held} "
                 f"objects: {objs}" + (f" uav={st.uav} battery={st.battery:.3f}"
                                       if st.uav else ""))
 
