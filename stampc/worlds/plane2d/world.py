@@ -257,27 +257,25 @@ class Plane2DWorld:
         if not points:
             return
         end = (float(points[-1][0]), float(points[-1][1]))
-        st = self._state
-        poses = st.poses
-        if st.held is not None:
-            ox, oy = st.held_offset
-            poses = self._with_pose(st.held, replace(self._pose_map[st.held],
-                                                     x=end[0] + ox, y=end[1] + oy))
         trace = tuple((float(x), float(y)) for x, y in points)
-        self._set(replace(st, gripper=end, poses=poses, trace=trace))
+        self._set(replace(self._state, gripper=end, poses=self._carried_to(end), trace=trace))
 
     def move_base(self, name: str) -> None:
         """Drive to candidate base ``name``: the gripper is tucked in over the base first
         and a held object comes along (base motions are not collision-checked)."""
         to = self.base_position(name)
-        st = self._state
-        poses = st.poses
-        if st.held is not None:
-            ox, oy = st.held_offset
-            poses = self._with_pose(st.held, replace(self._pose_map[st.held],
-                                                     x=to[0] + ox, y=to[1] + oy))
         # no trace: the base drives around the table, along no path this world models
-        self._set(replace(st, base=to, gripper=to, poses=poses, trace=()))
+        self._set(replace(self._state, base=to, gripper=to, poses=self._carried_to(to),
+                          trace=()))
+
+    def _carried_to(self, gripper: Point) -> tuple[tuple[str, Pose2], ...]:
+        """The poses with the held object (if any) moved along with the gripper."""
+        st = self._state
+        if st.held is None:
+            return st.poses
+        ox, oy = st.held_offset
+        return self._with_pose(st.held, replace(self._pose_map[st.held],
+                                                x=gripper[0] + ox, y=gripper[1] + oy))
 
     def attach(self, name: str) -> None:
         pose = self._pose_map.get(name)
