@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Callable, Iterator
 
-from stampc.refine.graph import Node, PolicyGraph, detach_subtree
+from stampc.refine.graph import GOAL, HORIZON, Node, PolicyGraph, detach_subtree
+from stampc.solvers.space import ANY_STATE
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -15,6 +16,11 @@ if TYPE_CHECKING:
     from stampc.ir.grounded import GroundModel
     from stampc.refine.options import RefineOptions
     from stampc.refine.planner import AbstractPlanner
+
+
+def has_way(graph: PolicyGraph, uid: int) -> bool:
+    """Whether the policy below ``uid`` reaches a goal (or a horizon leaf, to be extended)."""
+    return any(graph[u].leaf in (GOAL, HORIZON) for u in graph.reachable(uid))
 
 
 class Backtracking:
@@ -27,6 +33,9 @@ class Backtracking:
     model: "GroundModel"
     uids: "Iterator[int]"
     _bans: dict[tuple[int, int], int]
+    _worked: set[int]
+    _exhausted: dict[int, set[int]]
+    _notes: list[str]
     #: the engine's best-policy bookkeeping (``Engine._track``)
     _track: "Callable[[int, PolicyGraph], None]"
 
@@ -72,6 +81,61 @@ class Backtracking:
             if uid in gone:
                 self.planner.forbidden.discard(key)
                 del self._bans[key]
+
+    def _ban_everywhere_if_hopeless(self, action: int, state: int) -> None:
+        """An action that exhausted its attempts in ``ban_everywhere_after`` abstract
+        states and never worked anywhere is banned in every state. A per-state ban only
+        moves the policy to a sibling state (the other feed, one more plank aside) where
+        the same action is chosen and fails again: Keva tower-12 seed 2 spent 571 tries
+        on one arm's put-down that its grips could never reach, over 240 s."""
+        limit = self.options.ban_everywhere_after
+        if not limit or action in self._worked:
+            return
+        states = self._exhausted.setdefault(action, set())
+        states.add(state)
+        if len(states) >= limit and (ANY_STATE, action) not in self.planner.forbidden:
+            self.planner.forbidden.add((ANY_STATE, action))
+            self._notes.append(f"{self.model.actions[action].label}: banned in every state "
+                               f"(no usable sample in {len(states)} states, never refined)")
+
+    def _bans_everywhere(self) -> bool:
+        return any(s == ANY_STATE for s, _ in self.planner.forbidden)
+
+    def _replan_above(self, graph: PolicyGraph, path: tuple[int, ...]) -> tuple[str, str] | None:
+        """With actions banned in every state, replan at the nearest of the last
+        ``replan_above`` ancestors on ``path`` from which the goal is still reachable;
+        its subtree is replaced (new PRG node). None if none of them has a way."""
+        for uid in list(reversed(path[:-1]))[:self.options.replan_above]:
+            new_graph = graph.copy()
+            target = new_graph[uid]
+            before = target.action
+            sub = self._graft_growing(new_graph, target.state, target.depth, None, None)
+            self._adopt(new_graph, target, new_graph[sub])
+            new_graph.prune()
+            if not has_way(new_graph, uid):
+                continue
+            self._lift_bans(graph.reachable(uid))  # they came from concrete states now gone
+            v = self.prg.number_of_nodes()
+            self.prg.add_node(v, graph=new_graph, parent=self.current, failed=False)
+            self.prg.add_edge(self.current, v, node=uid, kind="replan", failed_preconditions=[],
+                              concretization=[])
+            self.current = v
+            self._track(v, new_graph)
+            label = self.model.actions[before].label if before is not None else "a leaf"
+            return "update", f"replanned at {label} without the actions banned everywhere"
+        return None
+
+    def _lift_bans_everywhere(self) -> bool:
+        """Lift every ban-everywhere (a replan found no way to the goal without those
+        actions); True if there was one. Each needs as many fresh failures to return."""
+        lifted = [a for s, a in self.planner.forbidden if s == ANY_STATE]
+        for action in lifted:
+            self.planner.forbidden.discard((ANY_STATE, action))
+            self._exhausted.pop(action, None)
+        if lifted:
+            self._notes.append(f"lifted {len(lifted)} ban(s) in every state: no way to the "
+                               "goal without them")
+        return bool(lifted)
 
     def _backtrack(self, uid: int | None) -> tuple[str, str]:
         """Iterative broadening: return to the deepest PRG ancestor with spare breadth

@@ -30,7 +30,7 @@ from typing import Any, Iterator
 import networkx as nx
 
 from stampc.ir.grounded import GroundModel
-from stampc.refine.backtracking import Backtracking
+from stampc.refine.backtracking import Backtracking, has_way
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
                                  abstract_goal_probability, count_covered_paths, coverage,
@@ -70,6 +70,9 @@ class Engine(Backtracking):
         self.resamples = 0
         #: (abstract state, action) bans and the node whose failures caused each
         self._bans: dict[tuple[int, int], int] = {}
+        #: actions refined at least once; per action, the states where it was banned
+        self._worked: set[int] = set()
+        self._exhausted: dict[int, set[int]] = {}
         self._start = time.perf_counter()
         self._stopped: float | None = None
 
@@ -253,6 +256,7 @@ class Engine(Backtracking):
                 self.planner.forbidden.add((node.state, node.action))
                 self._bans[(node.state, node.action)] = node.uid
                 return self._update(graph, node, (), "ban", path)
+            self._worked.add(node.action)
             self._track(self.current, graph)
             return "refined", action.label
         return self._on_failure(graph, path, result)
@@ -329,6 +333,7 @@ class Engine(Backtracking):
         # vs 1.0 in 8 s).
         self.planner.forbidden.add((node.state, node.action))
         self._bans[(node.state, node.action)] = node.uid
+        self._ban_everywhere_if_hopeless(node.action, node.state)
         return self._update(graph, node, (), "ban", path)
 
     def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
@@ -350,10 +355,18 @@ class Engine(Backtracking):
         self._adopt(new_graph, target, new_graph[sub])
         target.learned = target.learned + tuple(learned)
         new_graph.prune()
-        v = self.prg.number_of_nodes()
         # learned facts that leave no way to the goal below this node most likely come
         # from an unlucky sample: backtrack rather than accept a dead end
-        failed = not any(new_graph[u].leaf in (GOAL, HORIZON) for u in new_graph.reachable(node.uid))
+        failed = not has_way(new_graph, node.uid)
+        if failed and self._bans_everywhere():
+            # the choice that led here (which arm took the plank) may lie above: replan
+            # there without the banned actions before giving them up
+            above = self._replan_above(graph, path) if not learned else None
+            if above is not None:
+                return above
+            self._lift_bans_everywhere()
+            return self._update(graph, node, learned, kind, path)
+        v = self.prg.number_of_nodes()
         facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
         self.prg.add_node(v, graph=new_graph, parent=self.current, failed=failed)
         self.prg.add_edge(self.current, v, node=node.uid, failed_preconditions=facts,

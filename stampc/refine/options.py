@@ -26,6 +26,13 @@ class RefineOptions:
     max_horizon: int = 512
     #: refinement attempts at one node before the action is banned there and replanned
     max_attempts: int = 3
+    #: an action banned (attempts exhausted) in this many abstract states that never
+    #: worked anywhere is banned in every state; lifted when a replan finds no way to the
+    #: goal without it. 0 turns this off.
+    ban_everywhere_after: int = 3
+    #: how many ancestors up a replan without actions banned everywhere is tried (the
+    #: choice that led to them, e.g. which arm took the plank, lies above the failure)
+    replan_above: int = 6
     #: iterative-broadening DFS over the PRG: initial breadth and its increment
     breadth: int = 5
     breadth_step: int = 5
@@ -67,6 +74,9 @@ def check_refine_options(options: RefineOptions) -> None:
         value = getattr(options, name)
         if not 0.0 <= value <= 1.0:
             problems.append(error("R003", f"{name} must be within [0, 1], got {value}", span))
+    if options.ban_everywhere_after < 0:
+        problems.append(error("R003", "ban_everywhere_after must be 0 (off) or positive, "
+                              f"got {options.ban_everywhere_after}", span))
     if options.horizon is not None and options.horizon < 1:
         problems.append(error("R003", f"horizon must be at least 1, got {options.horizon}",
                               span))

@@ -21,7 +21,8 @@ class SolverOptions:
     horizon: int | None = None
     time_limit: float | None = None
     seed: int = 0                 # LRTDP trials
-    #: (state, action index) pairs the policy must not use.
+    #: (state, action index) pairs the policy must not use; (ANY_STATE, action index)
+    #: forbids the action in every state (``stampc.solvers.space.ANY_STATE``).
     forbidden: frozenset[tuple[int, int]] = frozenset()
     #: heuristic weight (weighted LAO*): > 1 trades optimality for speed; 1 keeps an
     #: admissible heuristic admissible

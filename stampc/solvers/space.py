@@ -19,6 +19,9 @@ from typing import Callable, Mapping
 from stampc.solvers.heuristics import Heuristic
 from stampc.solvers.successors import SuccessorCache, Transition
 
+#: the state of a ``forbidden`` pair that bans its action in every state
+ANY_STATE = -1
+
 
 class Space:
     def __init__(self, cache: SuccessorCache, heuristic: Heuristic, dead_end_cost: float,
@@ -35,6 +38,7 @@ class Space:
         self.state_mask = (1 << self.shift) - 1
         self.forbidden = forbidden
         self._forbidden_states = frozenset(s for s, _ in forbidden)
+        self._forbidden_anywhere = frozenset(a for s, a in forbidden if s == ANY_STATE)
         self.warm = warm or {}
         #: Finite horizon only: state -> lower bound on the *stationary* optimal value.
         #: V_H(s, t) >= V*(s): a finite-horizon policy is a history-dependent policy of
@@ -100,12 +104,15 @@ class Space:
         ``Search.expand``, stores them)."""
         if self.horizon is None:
             result = self.cache.transitions(node)
-            if node in self._forbidden_states:
-                result = tuple(t for t in result if (node, t[0]) not in self.forbidden)
+            if node in self._forbidden_states or self._forbidden_anywhere:
+                result = tuple(t for t in result if not self._banned(node, t[0]))
             return result
         state = node & self.state_mask
         step = ((node >> self.shift) + 1) << self.shift
         return tuple((a, c, probs, tuple(n | step for n in nexts))
                      for a, c, probs, nexts in
                      self.cache.transitions(state, eliminate_self_loops=False)
-                     if (state, a) not in self.forbidden)
+                     if not self._banned(state, a))
+
+    def _banned(self, state: int, action: int) -> bool:
+        return (state, action) in self.forbidden or action in self._forbidden_anywhere

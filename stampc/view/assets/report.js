@@ -175,6 +175,7 @@
     if (h.revisions.length) {
       const what = r => r.facts.length ? r.facts.join(", ")
         : r.kind === "resample" ? `new generator values (node ${r.failed_node} below found no refinement)`
+        : r.kind === "replan" ? "replanned here without the actions banned in every state"
         : "no facts: the action was banned there";
       const rows = h.revisions.map(r => el("tr", {"data-prg": r.to, style: r.to === h.best ? "font-weight:bold" : ""},
         el("td", {}, `#${r.to}`), el("td", {}, `#${r.from}`),
