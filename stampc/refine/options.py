@@ -28,8 +28,9 @@ class RefineOptions:
     max_attempts: int = 3
     #: an action banned (attempts exhausted) in this many abstract states that never
     #: worked anywhere is banned in every state; lifted when a replan finds no way to the
-    #: goal without it. 0 turns this off.
-    ban_everywhere_after: int = 3
+    #: goal without it. 0 (default) turns this off: on Keva tower-12 it helped some runs
+    #: and hurt others (docs/refine.md).
+    ban_everywhere_after: int = 0
     #: how many ancestors up a replan without actions banned everywhere is tried (the
     #: choice that led to them, e.g. which arm took the plank, lies above the failure)
     replan_above: int = 6

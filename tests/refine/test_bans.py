@@ -62,7 +62,7 @@ def test_a_ban_everywhere_is_lifted_when_the_goal_needs_the_action():
     # ban is lifted and the first placement re-sampled
     engine, events = engine_run(PACK, seed=0, ban_everywhere_after=1)
     assert engine.result().coverage == pytest.approx(1.0, abs=1e-9)
-    assert any("lifted 1 ban(s) in every state" in e.detail for e in events)
+    assert any("1 ban(s) in every state lifted" in e.detail for e in events)
     assert engine.result().resamples >= 1
     assert not any(s == ANY_STATE for s, _ in engine.planner.forbidden)
 
