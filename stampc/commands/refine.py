@@ -7,9 +7,9 @@ import sys
 from pathlib import Path
 
 from stampc.commands.common import (EXIT_DONE, EXIT_INPUT, EXIT_STOPPED_SHORT, EXIT_USAGE,
-                                    add_input_arguments, heuristic_weight, parse_scene_args,
-                                    positive_float, positive_int, probability, reports_errors,
-                                    target_coverage)
+                                    add_input_arguments, count, heuristic_weight,
+                                    parse_scene_args, positive_float, positive_int, probability,
+                                    reports_errors, target_coverage)
 
 HELP = "refine an abstract policy with concrete motions (ATM-MDP), anytime"
 
@@ -29,6 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="probability of UpdateAbstraction mode (default 0.5)")
     parser.add_argument("--explore-probability", type=probability, default=0.05,
                         help="probability of the explore step (default 0.05)")
+    parser.add_argument("--ban-everywhere-after", type=count, default=0, metavar="K",
+                        help="ban an action in every state once it found no usable sample in "
+                             "K states and never worked (default 0: off; docs/refine.md)")
     parser.add_argument("--heuristic", default="hadd", choices=("hadd", "hff", "hmax", "zero"),
                         help="abstract solver heuristic (default hadd, with an h_FF fallback "
                              "when it finds no way to the goal)")
@@ -58,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
         seed=args.seed, time_limit=args.time_limit, target_coverage=args.target_coverage,
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
+        ban_everywhere_after=args.ban_everywhere_after,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed))
     # bad input (StampcError, exit 1) and unreadable files (OSError, 2): reports_errors
     with _progress(args.quiet) as on_event:

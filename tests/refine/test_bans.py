@@ -71,3 +71,16 @@ def test_negative_ban_threshold_is_refused():
     with pytest.raises(StampcError) as info:
         check_refine_options(RefineOptions(ban_everywhere_after=-1))
     assert info.value.diagnostics[0].code == "R003"
+
+
+def test_command_line_option(tmp_path, capsys):
+    from stampc.cli import main
+    files = [str(f) for f in WET]
+    code = main(["refine", *files, "--ban-everywhere-after", "2", "--seed", "3",
+                 "--explore-probability", "0", "--quiet", "-o", str(tmp_path)])
+    assert code == 0
+    history = (tmp_path / "prg.json").read_text(encoding="utf-8")
+    assert "banned in every state" in history
+    capsys.readouterr()
+    assert main(["refine", *files, "--ban-everywhere-after", "-1"]) == 2
+    assert "--ban-everywhere-after" in capsys.readouterr().err
