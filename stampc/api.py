@@ -83,8 +83,12 @@ def to_ppddl(model: Model, *, keep_derived: bool = False) -> tuple[str, str]:
 
 def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", options=None,
            on_event: Callable | None = None, scene_overrides: Mapping[str, Any] | None = None,
-           verbose: bool = False):
-    """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``."""
+           verbose: bool = False, workers: int = 1, ray: str | None = None):
+    """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``.
+
+    ``workers`` > 1 concretizes that many nodes at a time in worker processes; ``ray``
+    (a Ray address, or "" for Ray's default) runs those workers as Ray actors
+    (``stampc.refine.parallel``, docs/refine.md "Parallel refinement")."""
     from stampc.provenance import builder_source, record
     from stampc.refine import RefineOptions, run_refinement
     from stampc.worlds.bindings import resolve_model
@@ -103,6 +107,16 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
                 "files": [str(p.resolve()) for p in paths], "scene": scene,
                 "provenance": record(paths, world, scene, builder_source(
                     model.problem.scene, paths[-1].parent, scene_overrides))}
-        return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta)
+        pool = None
+        if workers > 1 or ray is not None:
+            from stampc.refine.workers import WorkerSpec, open_pool
+            pool = open_pool(WorkerSpec(tuple(meta["files"]), world, scene, options.seed,
+                                        verbose), workers, ray)
+        try:
+            return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta,
+                                  pool=pool, backend="local" if ray is None else "ray")
+        finally:
+            if pool is not None:
+                pool.close()
     finally:
         w.close()
