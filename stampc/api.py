@@ -108,10 +108,10 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
                 "provenance": record(paths, world, scene, builder_source(
                     model.problem.scene, paths[-1].parent, scene_overrides))}
         pool = None
-        if workers > 1 or ray is not None:
+        if workers > 1:  # the engine is one of the workers: N - 1 more processes
             from stampc.refine.workers import WorkerSpec, open_pool
             pool = open_pool(WorkerSpec(tuple(meta["files"]), world, scene, options.seed,
-                                        verbose), workers, ray)
+                                        verbose), workers - 1, ray)
         try:
             return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta,
                                   pool=pool, backend="local" if ray is None else "ray")

@@ -34,7 +34,7 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.engine import Engine
 from stampc.refine.graph import Concrete, Node, PolicyGraph, path_values, select_path
 from stampc.refine.options import RefineOptions, RefineResult
-from stampc.refine.workers import WorkReply, WorkTask
+from stampc.refine.workers import WorkReply, WorkTask, handle_task
 from stampc.worlds.bindings import ResolvedBindings
 
 
@@ -42,7 +42,8 @@ class WorkerPool(Protocol):
     size: int
 
     def check(self, signature: tuple[int, int]) -> None: ...
-    def run(self, tasks: list[WorkTask]) -> list[WorkReply]: ...
+    def submit(self, tasks: list[WorkTask]) -> None: ...
+    def collect(self) -> list[WorkReply]: ...
     def close(self) -> None: ...
 
 
@@ -84,7 +85,9 @@ class ParallelEngine(Engine):
                  options: RefineOptions, pool: WorkerPool, backend: str = "local"):
         super().__init__(model, world, bindings, options)
         self.pool = pool
-        self.stats = ParallelStats(pool.size, backend)
+        #: the engine concretizes one node of each batch itself, the pool's workers the rest
+        self.workers = pool.size + 1
+        self.stats = ParallelStats(self.workers, backend)
         self._queue: deque[_Pending] = deque()
 
     def _loop(self):
@@ -119,7 +122,7 @@ class ParallelEngine(Engine):
             return math.inf if node.uid in taken else self._node_cost(node)
 
         out: list[tuple[int, ...]] = []
-        while len(out) < self.pool.size - 1:
+        while len(out) < self.workers - 1:
             path = _refinable_prefix(graph, select_path(graph, cost))
             if path is None or path[-1] in taken:
                 break
@@ -142,8 +145,10 @@ class ParallelEngine(Engine):
                 mode.random() < self.options.update_probability,
                 tuple((e.successor, e.outcome) for e in node.edges), remaining))
             pending.append((path, node, values))
+        self.pool.submit(tasks[1:])
+        replies = [handle_task(self.model, self.concretizer, tasks[0])]
         start = time.perf_counter()
-        replies = self.pool.run(tasks)
+        replies += self.pool.collect()
         self.stats.wait_s += time.perf_counter() - start
         self.stats.batches += 1
         self.stats.dispatched += len(tasks)

@@ -66,6 +66,7 @@ class RayPool:
         actor = ray.remote(num_cpus=1, max_restarts=0)(_Actor)
         self._actors = [actor.remote(spec) for _ in range(n)]
         self._ready = False
+        self._refs: list = []
 
     def _get(self, refs: list):
         from ray.exceptions import RayActorError, RayTaskError
@@ -80,9 +81,11 @@ class RayPool:
             check_status(self._get([a.status.remote() for a in self._actors]), signature)
             self._ready = True
 
-    def run(self, tasks: list[WorkTask]) -> list[WorkReply]:
-        return self._get([self._actors[i % self.size].handle.remote(t)
-                          for i, t in enumerate(tasks)])
+    def submit(self, tasks: list[WorkTask]) -> None:
+        self._refs = [self._actors[i % self.size].handle.remote(t) for i, t in enumerate(tasks)]
+
+    def collect(self) -> list[WorkReply]:
+        return self._get(self._refs)
 
     def close(self) -> None:
         for a in self._actors:

@@ -90,26 +90,34 @@ class RefineWorker:
             return WorkReply(diagnostics=tuple(exc.diagnostics))
 
     def _handle(self, task: WorkTask) -> WorkReply:
-        from stampc.refine.concretize import Success
-
-        start = time.perf_counter()
         c = self.concretizer
-        c.deadline = None if task.remaining is None else start + task.remaining
-        action = self.model.actions[task.action]
-        cache = dict(task.cache)
-        result = c.concretize(action, task.snapshot, cache, task.values, node_uid=task.uid,
-                              attempt=task.attempt, quick=task.quick)
-        snapshots = None
-        if isinstance(result, Success):
-            env = {**task.values, **result.sigma}
-            snapshots = [c.execute(action, successor, outcome, task.snapshot, cache, env,
-                                   task.uid, task.state) for successor, outcome in task.edges]
-        return WorkReply(result, snapshots, cache, time.perf_counter() - start)
+        c.deadline = None if task.remaining is None else time.perf_counter() + task.remaining
+        return handle_task(self.model, c, task)
 
     def close(self) -> None:
         close = getattr(self.world, "close", None)
         if close is not None:
             close()
+
+
+def handle_task(model, concretizer, task: WorkTask) -> WorkReply:
+    """Concretize the task's node from its snapshot (with a copy of its cache) and, on
+    success, execute its outcomes: a function of the task only (the engine runs one task
+    of each batch itself with this, the workers the others)."""
+    from stampc.refine.concretize import Success
+
+    start = time.perf_counter()
+    action = model.actions[task.action]
+    cache = dict(task.cache)
+    result = concretizer.concretize(action, task.snapshot, cache, task.values,
+                                    node_uid=task.uid, attempt=task.attempt, quick=task.quick)
+    snapshots = None
+    if isinstance(result, Success):
+        env = {**task.values, **result.sigma}
+        snapshots = [concretizer.execute(action, successor, outcome, task.snapshot, cache,
+                                         env, task.uid, task.state)
+                     for successor, outcome in task.edges]
+    return WorkReply(result, snapshots, cache, time.perf_counter() - start)
 
 
 def worker_failure(which: str, reason: str) -> StampcError:
@@ -184,6 +192,7 @@ class LocalPool:
             self._conns.append(parent)
             self._procs.append(proc)
         self._ready = False
+        self._sent = 0
 
     def check(self, signature: tuple[int, int]) -> None:
         """Wait for every worker to start; raise its diagnostics if one could not."""
@@ -191,10 +200,15 @@ class LocalPool:
             check_status([self._recv(i, conn) for i, conn in enumerate(self._conns)], signature)
             self._ready = True
 
-    def run(self, tasks: list[WorkTask]) -> list[WorkReply]:
+    def submit(self, tasks: list[WorkTask]) -> None:
+        """Send task ``i`` to worker ``i mod n`` (answered by :meth:`collect`)."""
         for i, task in enumerate(tasks):
             self._send(i % self.size, task)
-        return [self._recv(i % self.size, self._conns[i % self.size]) for i in range(len(tasks))]
+        self._sent = len(tasks)
+
+    def collect(self) -> list[WorkReply]:
+        """The replies to the last :meth:`submit`, in task order."""
+        return [self._recv(i % self.size, self._conns[i % self.size]) for i in range(self._sent)]
 
     def _send(self, i: int, task: WorkTask) -> None:
         try:
