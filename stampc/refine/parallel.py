@@ -131,7 +131,6 @@ class ParallelEngine(Engine):
         return out
 
     def _dispatch(self, graph: PolicyGraph, paths: list[tuple[int, ...]]) -> None:
-        self.pool.check((len(self.model.actions), len(self.model.facts)))
         tasks, pending = [], []
         deadline = self.concretizer.deadline
         for path in paths:
@@ -145,11 +144,14 @@ class ParallelEngine(Engine):
                 mode.random() < self.options.update_probability,
                 tuple((e.successor, e.outcome) for e in node.edges), remaining))
             pending.append((path, node, values))
-        self.pool.submit(tasks[1:])
+        if len(tasks) > 1:  # workers are waited for only once there is work for them
+            self.pool.check((len(self.model.actions), len(self.model.facts)))
+            self.pool.submit(tasks[1:])
         replies = [handle_task(self.model, self.concretizer, tasks[0])]
-        start = time.perf_counter()
-        replies += self.pool.collect()
-        self.stats.wait_s += time.perf_counter() - start
+        if len(tasks) > 1:
+            start = time.perf_counter()
+            replies += self.pool.collect()
+            self.stats.wait_s += time.perf_counter() - start
         self.stats.batches += 1
         self.stats.dispatched += len(tasks)
         for (path, node, values), reply in zip(pending, replies):

@@ -230,6 +230,9 @@ class LocalPool:
                               f"{type(exc).__name__})")
 
     def close(self) -> None:
+        if not self._ready:  # never used (no batch had work for it): still starting, maybe
+            for proc in self._procs:
+                proc.terminate()
         for conn in self._conns:
             try:
                 conn.send(None)
