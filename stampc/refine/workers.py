@@ -21,19 +21,22 @@ from __future__ import annotations
 import multiprocessing
 import time
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 from stampc.diagnostics import Diagnostic, Span, StampcError, error
 
 
 @dataclass(frozen=True)
 class WorkerSpec:
-    """What a worker needs to rebuild the engine's model and world."""
+    """What a worker needs to rebuild the engine's model and world: ``build(spec)``
+    returns (ground model, world, resolved bindings) — a module-level function, so that
+    it pickles by name (``stampc.api`` passes its own; the engine layer does not compile)."""
 
     files: tuple[str, ...]
     world: str
     scene: Mapping[str, Any]
     seed: int
+    build: Callable[["WorkerSpec"], tuple[Any, Any, Any]]
     verbose: bool = False
 
 
@@ -66,17 +69,9 @@ class RefineWorker:
     """One worker's model, world and concretizer (a plain class: Ray wraps it as an actor)."""
 
     def __init__(self, spec: WorkerSpec):
-        from stampc.api import _paths, ground, load_model
         from stampc.refine.concretize import Concretizer
-        from stampc.worlds.bindings import resolve_model
-        from stampc.worlds.loading import open_world
 
-        paths = _paths(spec.files)
-        model = load_model(paths)
-        self.model = ground(model)
-        self.world = open_world(spec.world, dict(spec.scene), seed=spec.seed,
-                                verbose=spec.verbose)
-        bindings = resolve_model(model, self.world.package)
+        self.model, self.world, bindings = spec.build(spec)
         self.concretizer = Concretizer(self.model, bindings, self.world, spec.seed)
 
     def signature(self) -> tuple[int, int]:
@@ -244,14 +239,3 @@ class LocalPool:
             if proc.is_alive():
                 proc.terminate()
                 proc.join(timeout=1.0)
-
-
-def open_pool(spec: WorkerSpec, workers: int, ray: str | None):
-    """``workers`` local processes, or Ray actors when ``ray`` is an address ("" for Ray's
-    default: a running cluster named by RAY_ADDRESS, else a new local one)."""
-    if workers < 1:
-        raise ValueError(f"workers must be at least 1, got {workers}")
-    if ray is None:
-        return LocalPool(spec, workers)
-    from stampc.refine.ray_backend import RayPool  # the only module that imports Ray
-    return RayPool(spec, workers, ray)
