@@ -11,6 +11,7 @@ cluster needs the same checkout and the stamp files at the same paths (docs/refi
 from __future__ import annotations
 
 import os
+import socket
 from pathlib import Path
 
 from stampc.diagnostics import Span, StampcError, error
@@ -40,6 +41,18 @@ def _unavailable(reason: str) -> StampcError:
                                    "--ray to use local worker processes")])
 
 
+def _reachable(address: str) -> None:
+    """Fail fast (R207) when a host:port address does not accept connections: Ray itself
+    keeps retrying an unreachable cluster for minutes."""
+    host, sep, port = address.rpartition(":")
+    if not sep or not port.isdigit():
+        return  # "" or "auto": Ray finds the cluster itself
+    try:
+        socket.create_connection((host.strip("[]"), int(port)), timeout=5.0).close()
+    except OSError as exc:
+        raise _unavailable(f"nothing answers at {address} ({exc.strerror or exc})") from None
+
+
 def _python_path() -> str:
     import stampc
     root = str(Path(stampc.__file__).resolve().parents[1])
@@ -55,6 +68,7 @@ class RayPool:
         except ImportError:
             raise _unavailable("the ray package is not installed") from None
         self._ray = ray
+        _reachable(address)
         try:
             ray.init(address=address or None, include_dashboard=False, log_to_driver=False,
                      configure_logging=False,

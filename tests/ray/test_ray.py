@@ -71,3 +71,12 @@ def test_small_benchmark_on_ray_matches_the_local_pool(cluster, tmp_path):
     keys = ("cls", "run", "seed", "status", "coverage", "goal_probability", "work")
     assert [{k: r[k] for k in keys} for r in on_ray] == [{k: r[k] for k in keys} for r in local]
     assert [r["status"] for r in on_ray] == ["solved", "solved"]
+
+
+def test_an_address_where_no_cluster_answers_is_R207(tmp_path):
+    cmd = [sys.executable, "-m", "stampc", "refine", *map(str, SHELF), "--quiet", "--workers",
+           "2", "--ray", "127.0.0.1:9"]
+    proc = subprocess.run(cmd, cwd=REPO, env=_env(), capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 1
+    assert "R207" in proc.stderr and "127.0.0.1:9" in proc.stderr
+    assert "Traceback" not in proc.stderr
