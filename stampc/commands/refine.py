@@ -35,9 +35,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--weight", type=heuristic_weight, default=1.0,
                         help="heuristic weight of the abstract solver (default 1)")
     parser.add_argument("--workers", type=positive_int, default=1, metavar="N",
-                        help="concretize up to N independent nodes at a time in N worker "
-                             "processes (default 1: in this process); reproducible for a "
-                             "given seed and N (docs/refine.md)")
+                        help="concretize up to N independent nodes at a time: this "
+                             "process and N-1 worker processes (default 1: no worker); "
+                             "reproducible for a given seed and N (docs/refine.md)")
     parser.add_argument("--ray", nargs="?", const="", default=None, metavar="ADDRESS",
                         help="run the workers as Ray actors: on the cluster at ADDRESS "
                              "(host:port, or 'auto'), else Ray's default (RAY_ADDRESS or a "
