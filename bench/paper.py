@@ -235,6 +235,16 @@ def report(files: list[str]) -> int:
     return 0
 
 
+def _records(jobs: list[Job], args: argparse.Namespace):
+    """Each job's record in job order: local processes, or Ray tasks (bench/paper_ray.py)."""
+    if args.ray is not None:
+        from paper_ray import run_on_ray
+        yield from (RunRecord(**raw) for raw in run_on_ray(jobs, args.ray))
+        return
+    with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        yield from pool.map(run_job, jobs)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="reproduce the paper's table on PyBullet")
     ap.add_argument("--runs", type=int, default=10, help="seeds per class (default 10)")
@@ -244,6 +254,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, help="override every class's timeout (s)")
     ap.add_argument("--classes", default="", help="regex selecting class names")
     ap.add_argument("--jobs", type=int, default=2, help="parallel runs (default 2)")
+    ap.add_argument("--ray", nargs="?", const="", default=None, metavar="ADDRESS",
+                    help="run on the Ray cluster at ADDRESS (Ray's default without one) "
+                         "instead of the local pool; --jobs is then the cluster's CPUs")
     ap.add_argument("--seed-base", type=int, default=0, help="seed of each class's first run")
     ap.add_argument("--out", default=str(REPO / "bench" / "out" / "paper"))
     ap.add_argument("--report", nargs="+", metavar="RUNS_JSON",
@@ -260,15 +273,14 @@ def main(argv: list[str] | None = None) -> int:
                 args.timeout or (QUICK_TIMEOUT if args.quick else cls.timeout_s),
                 str(out / cls.name / f"run{i}"))
             for cls in classes for i in range(runs)]
-    print(f"{len(jobs)} runs of {len(classes)} classes, {args.jobs} at a time -> {out}")
+    where = f"{args.jobs} at a time" if args.ray is None else f"on Ray ({args.ray or 'default'})"
+    print(f"{len(jobs)} runs of {len(classes)} classes, {where} -> {out}")
     records: list[RunRecord] = []
-    with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        for rec in pool.map(run_job, jobs):
-            records.append(rec)
-            print(f"  {rec.cls:16s} seed {rec.seed:3d}: {rec.status:8s} coverage "
-                  f"{rec.coverage:.4f} process {rec.process_s:7.1f} s (cpu {rec.cpu_s:.1f}) engine "
-                  f"{rec.engine_s:7.1f} s  {json.dumps(rec.work)}  {rec.detail[:50]}",
-                  flush=True)
+    for rec in _records(jobs, args):
+        records.append(rec)
+        print(f"  {rec.cls:16s} seed {rec.seed:3d}: {rec.status:8s} coverage "
+              f"{rec.coverage:.4f} process {rec.process_s:7.1f} s (cpu {rec.cpu_s:.1f}) engine "
+              f"{rec.engine_s:7.1f} s  {json.dumps(rec.work)}  {rec.detail[:50]}", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     (out / "runs.json").write_text(json.dumps([asdict(r) for r in records], indent=1))
     text = table(records, classes)

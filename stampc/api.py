@@ -83,8 +83,12 @@ def to_ppddl(model: Model, *, keep_derived: bool = False) -> tuple[str, str]:
 
 def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", options=None,
            on_event: Callable | None = None, scene_overrides: Mapping[str, Any] | None = None,
-           verbose: bool = False):
-    """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``."""
+           verbose: bool = False, workers: int = 1, ray: str | None = None):
+    """Compile, ground, open the world and run ATM-MDP; returns a ``RefinedPolicy``.
+
+    ``workers`` > 1 concretizes that many nodes at a time in worker processes; ``ray``
+    (a Ray address, or "" for Ray's default) runs those workers as Ray actors
+    (``stampc.refine.parallel``, docs/refine.md "Parallel refinement")."""
     from stampc.provenance import builder_source, record
     from stampc.refine import RefineOptions, run_refinement
     from stampc.worlds.bindings import resolve_model
@@ -103,6 +107,37 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
                 "files": [str(p.resolve()) for p in paths], "scene": scene,
                 "provenance": record(paths, world, scene, builder_source(
                     model.problem.scene, paths[-1].parent, scene_overrides))}
-        return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta)
+        pool = None
+        if workers > 1:  # the engine is one of the workers: N - 1 more processes
+            from stampc.refine.workers import WorkerSpec
+            pool = _open_pool(WorkerSpec(tuple(meta["files"]), world, scene, options.seed,
+                                         _build_worker, verbose), workers - 1, ray)
+        try:
+            return run_refinement(gm, w, bindings, options, on_event=on_event, meta=meta,
+                                  pool=pool, backend="local" if ray is None else "ray")
+        finally:
+            if pool is not None:
+                pool.close()
     finally:
         w.close()
+
+
+def _build_worker(spec):
+    """A refinement worker's (ground model, world, bindings), rebuilt from the same stamp
+    files, scene dict and seed as the engine's (``stampc.refine.workers``)."""
+    from stampc.worlds.bindings import resolve_model
+    from stampc.worlds.loading import open_world
+
+    model = load_model(_paths(spec.files))
+    world = open_world(spec.world, dict(spec.scene), seed=spec.seed, verbose=spec.verbose)
+    return ground(model), world, resolve_model(model, world.package)
+
+
+def _open_pool(spec, size: int, ray: str | None):
+    """``size`` local worker processes, or Ray actors when ``ray`` is an address ("" for
+    Ray's default: the cluster named by RAY_ADDRESS, else a new local one)."""
+    if ray is None:
+        from stampc.refine.workers import LocalPool
+        return LocalPool(spec, size)
+    from stampc.refine.ray_backend import RayPool  # the only module that imports Ray
+    return RayPool(spec, size, ray)

@@ -37,6 +37,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "when it finds no way to the goal)")
     parser.add_argument("--weight", type=heuristic_weight, default=1.0,
                         help="heuristic weight of the abstract solver (default 1)")
+    parser.add_argument("--workers", type=positive_int, default=1, metavar="N",
+                        help="concretize up to N independent nodes at a time: this "
+                             "process and N-1 worker processes (default 1: no worker); "
+                             "reproducible for a given seed and N (docs/refine.md)")
+    parser.add_argument("--ray", nargs="?", const="", default=None, metavar="ADDRESS",
+                        help="run the workers as Ray actors: on the cluster at ADDRESS "
+                             "(host:port, or 'auto'), else Ray's default (RAY_ADDRESS or a "
+                             "new local instance); needs the ray extra")
     parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
                         help="override a scene-builder argument (repeatable)")
     parser.add_argument("-o", "--output", metavar="DIR", help="write policy.json, coverage.csv, "
@@ -66,7 +74,8 @@ def run(args: argparse.Namespace) -> int:
     # bad input (StampcError, exit 1) and unreadable files (OSError, 2): reports_errors
     with _progress(args.quiet) as on_event:
         run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
-                                 scene_overrides=overrides, verbose=args.verbose)
+                                 scene_overrides=overrides, verbose=args.verbose,
+                                 workers=args.workers, ray=args.ray)
     result = run_.result
     print(f"coverage {result.coverage:.4f} (goal {result.goal_mass:.4f} + proven dead ends "
           f"{result.dead_end_mass:.4f}; unrefined {result.unrefined_mass:.4f})  "

@@ -52,9 +52,16 @@ class RefinedPolicy:
 def run_refinement(model: GroundModel, world: Any, bindings: ResolvedBindings,
                    options: RefineOptions = RefineOptions(), *,
                    on_event: Callable[[ProgressEvent], None] | None = None,
-                   meta: Mapping[str, Any] | None = None) -> RefinedPolicy:
+                   meta: Mapping[str, Any] | None = None,
+                   pool: Any = None, backend: str = "local") -> RefinedPolicy:
+    """Refine; with ``pool`` (``stampc.refine.workers``), concretizations run in its
+    workers (``stampc.refine.parallel``)."""
     check_refine_options(options)
-    engine = Engine(model, world, bindings, options)
+    if pool is None:
+        engine = Engine(model, world, bindings, options)
+    else:
+        from stampc.refine.parallel import ParallelEngine
+        engine = ParallelEngine(model, world, bindings, options, pool, backend)
     try:
         for event in engine.run():
             if on_event is not None:

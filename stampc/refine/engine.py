@@ -33,16 +33,14 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.backtracking import Backtracking, has_way
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
-                                 abstract_goal_probability, count_covered_paths, coverage,
-                                 dead_end_mass, goal_probability, path_values, select_path)
-from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult
+                                 abstract_goal_probability, path_values, select_path)
+from stampc.refine.options import ProgressEvent, RefineOptions
 from stampc.refine.planner import AbstractPlanner
+from stampc.refine.reporting import THRESHOLDS, Reporting
 from stampc.worlds.bindings import ResolvedBindings
 
-THRESHOLDS = (0.5, 0.8, 0.9, 1.0)
 
-
-class Engine(Backtracking):
+class Engine(Backtracking, Reporting):
     def __init__(self, model: GroundModel, world: Any, bindings: ResolvedBindings,
                  options: RefineOptions = RefineOptions()):
         self.model = model
@@ -116,28 +114,6 @@ class Engine(Backtracking):
             self.stop_reason = "iteration limit"
         yield self._event("done", self.stop_reason)
 
-    def result(self) -> RefineResult:
-        graph = self.best_graph
-        cov = coverage(graph) if graph else 0.0
-        goal = goal_probability(graph) if graph else 0.0
-        dead = dead_end_mass(graph) if graph else 0.0
-        refined_paths = count_covered_paths(graph) if graph else 0
-        return RefineResult(
-            coverage=cov,
-            goal_probability=goal,
-            abstract_goal_probability=abstract_goal_probability(graph) if graph else 0.0,
-            wall_time_s=self.elapsed(),
-            time_to_coverage=dict(self.crossed),
-            prg_nodes=self.prg.number_of_nodes(),
-            refined_paths=refined_paths,
-            refined_nodes=sum(1 for n in graph.nodes.values() if n.refined) if graph else 0,
-            abstract_solves=self.planner.solves,
-            seed=self.options.seed,
-            stop_reason=self.stop_reason if self.stop_reason != "running" else "interrupted",
-            events=tuple(self.events),
-            goal_mass=goal, dead_end_mass=dead, unrefined_mass=max(0.0, 1.0 - goal - dead),
-            solver_timeouts=self.planner.timeouts, resamples=self.resamples)
-
     def elapsed(self) -> float:
         """Seconds in the engine's loop: frozen when the loop ends, so the summary's time
         is the one ``time_limit`` applies to (not the reporting after it)."""
@@ -182,7 +158,10 @@ class Engine(Backtracking):
     # ----------------------------------------------------------------- step
     def step(self) -> tuple[str, str]:
         graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
-        selected = select_path(graph, self._node_cost)
+        return self._act(graph, select_path(graph, self._node_cost))
+
+    def _act(self, graph: PolicyGraph, selected) -> tuple[str, str]:
+        """Work on the selected path: extend its open leaf or refine its first unrefined action."""
         if selected is None:
             # nothing selectable here (given-up leaves, or merges that closed a loop with
             # no way out, e.g. after an explore step): this PRG node is spent, but its
@@ -247,10 +226,18 @@ class Engine(Backtracking):
         result = self.concretizer.concretize(
             action, node.concrete.snapshot, node.concrete.cache, values,
             node_uid=node.uid, attempt=node.attempts, quick=quick)
+        return self._integrate(graph, path, result, values)
+
+    def _integrate(self, graph: PolicyGraph, path: tuple[int, ...], result: Success | Failure,
+                   values, snapshots: list | None = None) -> tuple[str, str]:
+        """Act on the concretization ``result`` of the path's last node (``snapshots``:
+        its outcomes' concrete states when a worker executed them already)."""
+        node = graph[path[-1]]
+        action = self.model.actions[node.action]
         if not isinstance(result, Success) and self.concretizer.past_deadline():
             return "stopped", f"{action.label}: time limit reached while sampling"
         if isinstance(result, Success):
-            if not self._commit(graph, node, result.sigma, values):
+            if not self._commit(graph, node, result.sigma, values, snapshots):
                 # its outcomes would merge into a loop with no way out: the policy above
                 # was planned before later bans; give the action up here and replan
                 self._notes.append(f"{action.label}: its outcomes close a loop with no way out")
@@ -262,7 +249,8 @@ class Engine(Backtracking):
             return "refined", action.label
         return self._on_failure(graph, path, result)
 
-    def _commit(self, graph: PolicyGraph, node: Node, sigma, values) -> bool:
+    def _commit(self, graph: PolicyGraph, node: Node, sigma, values,
+                snapshots: list | None = None) -> bool:
         """Refine ``node`` with ``sigma``; execute each outcome to get child states.
         Children equal to existing nodes are merged into them — unless that would leave
         ``node`` in a loop with no way out (no leaf reachable): then nothing is committed
@@ -273,9 +261,9 @@ class Engine(Backtracking):
         env = {**values, **sigma}
         merge = getattr(self.world, "fingerprint", None)
         for k, edge in enumerate(node.edges):
-            snap = self.concretizer.execute(action, edge.successor, edge.outcome,
-                                            node.concrete.snapshot, node.concrete.cache,
-                                            env, node.uid, node.state)
+            snap = snapshots[k] if snapshots is not None else self.concretizer.execute(
+                action, edge.successor, edge.outcome, node.concrete.snapshot,
+                node.concrete.cache, env, node.uid, node.state)
             key = merge(snap) if merge else None
             target = self._merge_target(graph, graph[edge.child].state, key)
             if target is None:
@@ -391,28 +379,3 @@ class Engine(Backtracking):
         target.edges, target.sigma, target.attempts = list(source.edges), None, 0
         target.proven, target.given_up = source.proven, False
         del graph.nodes[source.uid]
-
-    # -------------------------------------------------------------- reporting
-    def _track(self, prg_node: int, graph: PolicyGraph) -> None:
-        score = (coverage(graph), goal_probability(graph))
-        if score > self.best:
-            self.best, self.best_graph, self.best_prg = score, graph.copy(), prg_node
-            now = self.elapsed()
-            for t in THRESHOLDS:
-                if self.crossed[str(t)] is None and score[0] >= t - 1e-9:
-                    self.crossed[str(t)] = now
-
-    def _event(self, kind: str, detail: str = "") -> ProgressEvent:
-        graph = self.best_graph
-        if self._notes:
-            detail = f"{detail} [{'; '.join(self._notes)}]" if detail else "; ".join(self._notes)
-            self._notes = []
-        event = ProgressEvent(
-            time_s=self.elapsed(), coverage=max(self.best[0], 0.0),
-            goal_probability=max(self.best[1], 0.0),
-            refined_nodes=sum(1 for n in graph.nodes.values() if n.refined) if graph else 0,
-            prg_nodes=self.prg.number_of_nodes(), abstract_solves=self.planner.solves,
-            kind=kind, detail=detail,
-            dead_end_mass=max(0.0, self.best[0] - self.best[1]))
-        self.events.append(event)
-        return event

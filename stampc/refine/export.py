@@ -218,7 +218,8 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any],
             "goal_mass": result.goal_mass, "dead_end_mass": result.dead_end_mass,
             "unrefined_mass": result.unrefined_mass, "solver_timeouts": result.solver_timeouts,
             "resamples": result.resamples,
-            "seed": result.seed, "stop_reason": result.stop_reason}
+            "seed": result.seed, "stop_reason": result.stop_reason,
+            **({"parallel": result.parallel} if result.parallel is not None else {})}
 
 
 def _outcome_name(names: tuple[tuple[str, ...], ...], outcome: int) -> dict[str, str]:

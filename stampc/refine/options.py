@@ -125,3 +125,5 @@ class RefineResult:
     #: abstract solves that hit their time cap; generator values re-drawn by backtracking
     solver_timeouts: int = 0
     resamples: int = 0
+    #: counters of a parallel run (``--workers N``, N > 1; ``stampc.refine.parallel``)
+    parallel: dict | None = None
