@@ -101,6 +101,29 @@ class PolicyGraph:
             stack.extend(e.child for e in reversed(self.nodes[uid].edges))
         return order
 
+    def postorder(self, start: int | None = None) -> tuple[list[int], bool]:
+        """uids reachable from ``start`` (default: the root), each after its children
+        except where an edge closes a cycle, and whether none does. One sweep in this
+        order settles a DAG exactly (outcomes that rejoin, as Keva's feeds do, made a
+        reversed-preorder fixed point sweep again, and then once more to confirm)."""
+        root = self.root if start is None else start
+        seen, on_stack, order, acyclic = {root}, {root}, [], True
+        stack = [(root, iter(self.nodes[root].edges))]
+        while stack:
+            uid, edges = stack[-1]
+            for e in edges:
+                if e.child not in seen:
+                    seen.add(e.child)
+                    on_stack.add(e.child)
+                    stack.append((e.child, iter(self.nodes[e.child].edges)))
+                    break
+                acyclic = acyclic and e.child not in on_stack
+            else:
+                stack.pop()
+                on_stack.discard(uid)
+                order.append(uid)
+        return order, acyclic
+
     def reaches_leaf(self, start: int) -> bool:
         """Whether some leaf is reachable from ``start`` (breadth first, stopping at the
         first: cheap wherever the answer is yes, the usual case)."""
@@ -139,34 +162,49 @@ def _copy_node(node: Node) -> Node:
 
 
 # ------------------------------------------------------------------ coverage
-def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float],
-          refined_only: bool = True) -> float:
-    """Probability, from the root, of reaching a leaf scored by ``leaf_value`` (while
-    staying on refined nodes, with ``refined_only``). Iterated to a fixed point so cycles
-    (retry loops) count with their true, geometric probability."""
-    order = graph.reachable()
-    value = {u: 0.0 for u in order}
+def _masses(graph: PolicyGraph, leaf_value: Callable[[Node], tuple[float, ...]],
+            refined_only: bool = True) -> tuple[float, ...]:
+    """Probabilities, from the root, of reaching a leaf scored by each component of
+    ``leaf_value`` (while staying on refined nodes, with ``refined_only``). Iterated to a
+    fixed point so cycles (retry loops) count with their true, geometric probability."""
+    order, acyclic = graph.postorder()
+    width = len(leaf_value(graph.nodes[order[0]]))
+    zero = (0.0,) * width
+    value = {u: zero for u in order}
     for _ in range(10_000):
         delta = 0.0
-        for uid in reversed(order):
+        for uid in order:
             node = graph.nodes[uid]
             if node.is_leaf:
                 new = leaf_value(node)
             elif refined_only and not node.refined:
-                new = 0.0
+                new = zero
             else:
-                new = sum(e.probability * value[e.child] for e in node.edges)
-            delta = max(delta, abs(new - value[uid]))
+                new = tuple(sum(e.probability * value[e.child][k] for e in node.edges)
+                            for k in range(width))
+            delta = max(delta, max(abs(a - b) for a, b in zip(new, value[uid])))
             value[uid] = new
-        if delta < 1e-12:
+        if acyclic or delta < 1e-12:
             break
-    return min(1.0, value[graph.root])
+    return tuple(min(1.0, v) for v in value[graph.root])
+
+
+def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float],
+          refined_only: bool = True) -> float:
+    return _masses(graph, lambda n: (leaf_value(n),), refined_only)[0]
 
 
 def coverage(graph: PolicyGraph) -> float:
     """Probability mass of executions that stay on refined branches to a terminal leaf
     (the goal or a proven dead end): goal mass + proven dead-end mass."""
     return _mass(graph, lambda n: 1.0 if n.terminal else 0.0)
+
+
+def coverage_and_goal(graph: PolicyGraph) -> tuple[float, float]:
+    """``(coverage(graph), goal_probability(graph))`` in one fixed-point pass."""
+    cov, goal = _masses(graph, lambda n: (1.0 if n.terminal else 0.0,
+                                          1.0 if n.leaf == GOAL else 0.0))
+    return cov, goal
 
 
 def dead_end_mass(graph: PolicyGraph) -> float:
@@ -206,13 +244,13 @@ class Bounds:
 def path_bounds(graph: PolicyGraph, node_cost: Callable[[Node], float]) -> Bounds:
     """Fixed points over the policy graph (cycles converge: a loop multiplies
     probabilities < 1 and adds costs >= 0). A node's own ĉ counts in its parent's sums."""
-    order = graph.reachable()
+    order, acyclic = graph.postorder()
     inf = math.inf
     p_open, p_any = {u: 0.0 for u in order}, {u: 0.0 for u in order}
     c_open, c_any = {u: inf for u in order}, {u: inf for u in order}
     for _ in range(10_000):
         changed = False
-        for uid in reversed(order):
+        for uid in order:
             node = graph.nodes[uid]
             if node.is_leaf:
                 selectable = not node.given_up and node_cost(node) < inf
@@ -234,7 +272,7 @@ def path_bounds(graph: PolicyGraph, node_cost: Callable[[Node], float]) -> Bound
             if any(a != b and abs(a - b) > 1e-15 for a, b in zip(new, old)):
                 p_open[uid], p_any[uid], c_open[uid], c_any[uid] = new
                 changed = True
-        if not changed:
+        if acyclic or not changed:
             break
     return Bounds(p_open, p_any, c_open, c_any)
 

@@ -199,3 +199,29 @@ def test_reaches_leaf_sees_loops_with_and_without_a_way_out():
     assert not closed.reaches_leaf(0) and not closed.reaches_leaf(1)
     retry = build({0: ("act", True, [(0.2, 0), (0.8, 1)]), 1: ("leaf", GOAL)})
     assert retry.reaches_leaf(0)
+
+
+def test_postorder_puts_children_first_and_flags_cycles():
+    # a merging ladder: each child comes before every parent, and the graph is acyclic
+    spec = {}
+    for level in range(5):
+        a, nxt = 3 * level, 3 * level + 3
+        spec[a] = ("act", True, [(0.8, a + 1), (0.2, a + 2)])
+        spec[a + 1] = ("act", True, [(1.0, nxt)])
+        spec[a + 2] = ("act", True, [(1.0, nxt)])
+    spec[15] = ("leaf", GOAL)
+    g = build(spec)
+    order, acyclic = g.postorder()
+    assert acyclic and sorted(order) == sorted(spec)
+    position = {u: i for i, u in enumerate(order)}
+    assert all(position[e.child] < position[u] for u in order for e in g[u].edges)
+    assert coverage(g) == pytest.approx(1.0)
+    # a retry loop back to an ancestor is a cycle; its mass still converges
+    loop = build({0: ("act", True, [(1.0, 1)]), 1: ("act", True, [(0.3, 0), (0.7, 2)]),
+                  2: ("leaf", GOAL)})
+    assert loop.postorder()[1] is False
+    assert goal_probability(loop) == pytest.approx(1.0)
+    with_exit = build({0: ("act", True, [(1.0, 1)]),
+                       1: ("act", True, [(0.3, 0), (0.6, 2), (0.1, 3)]),
+                       2: ("leaf", GOAL), 3: ("leaf", DEAD_END)})
+    assert goal_probability(with_exit) == pytest.approx(6 / 7)
