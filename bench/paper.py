@@ -25,6 +25,7 @@ import json
 import os
 import re
 import resource
+import shlex
 import signal
 import subprocess
 import sys
@@ -53,6 +54,8 @@ class Job:
     seed: int
     timeout_s: float
     out_dir: str
+    #: further ``stampc refine`` arguments (``--refine-args``)
+    refine_args: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -161,7 +164,7 @@ def run_job(job: Job) -> RunRecord:
     cmd = [sys.executable, str(REPO / "bench" / "paper_worker.py"), str(stats_file),
            "refine", str(domain), str(problem), "--world", "pybullet", "--time-limit",
            str(job.timeout_s), "--target-coverage", str(SOLVED_COVERAGE), "--seed",
-           str(job.seed), "--quiet", "-o", str(result)]
+           str(job.seed), "--quiet", "-o", str(result), *job.refine_args]
     t0, usage = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     code, stderr, killed = _run_with_deadline(cmd, job.timeout_s * 1.25 + 60.0)
     process_s = time.perf_counter() - t0
@@ -262,6 +265,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--report", nargs="+", metavar="RUNS_JSON",
                     help="run nothing: print the table of earlier runs.json files (a later "
                          "file's run of a class and seed replaces an earlier one's)")
+    ap.add_argument("--refine-args", default="", metavar="ARGS",
+                    help="further stampc refine arguments for every run, e.g. "
+                         "'--ban-everywhere-after 3'")
     args = ap.parse_args(argv)
     if args.report:
         return report(args.report)
@@ -271,7 +277,7 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(args.out).resolve()
     jobs = [Job(cls, i, args.seed_base + i,
                 args.timeout or (QUICK_TIMEOUT if args.quick else cls.timeout_s),
-                str(out / cls.name / f"run{i}"))
+                str(out / cls.name / f"run{i}"), tuple(shlex.split(args.refine_args)))
             for cls in classes for i in range(runs)]
     where = f"{args.jobs} at a time" if args.ray is None else f"on Ray ({args.ray or 'default'})"
     print(f"{len(jobs)} runs of {len(classes)} classes, {where} -> {out}")

@@ -24,7 +24,7 @@ def _run(job: dict[str, Any]) -> dict[str, Any]:
 
     cls = next(c for c in CLASSES if c.name == job["cls"])
     return asdict(paper.run_job(paper.Job(cls, job["run"], job["seed"], job["timeout_s"],
-                                          job["out_dir"])))
+                                          job["out_dir"], tuple(job["refine_args"]))))
 
 
 def run_on_ray(jobs: list, address: str) -> list[dict[str, Any]]:
@@ -38,7 +38,8 @@ def run_on_ray(jobs: list, address: str) -> list[dict[str, Any]]:
     try:
         task = ray.remote(num_cpus=1)(_run)
         refs = [task.remote({"cls": j.cls.name, "run": j.run, "seed": j.seed,
-                             "timeout_s": j.timeout_s, "out_dir": j.out_dir}) for j in jobs]
+                             "timeout_s": j.timeout_s, "out_dir": j.out_dir,
+                             "refine_args": list(j.refine_args)}) for j in jobs]
         return ray.get(refs)
     finally:
         ray.shutdown()
