@@ -10,6 +10,7 @@ warm-start value). The algorithms read ``expanded[x]`` directly in their inner l
 from __future__ import annotations
 
 import time
+from typing import Callable
 
 from stampc.solvers.space import Space
 from stampc.solvers.successors import Transition
@@ -29,6 +30,11 @@ class Search:
         self.expanded: dict[int, tuple[Transition, ...]] = {}
         #: Finite horizon: the stationary search whose values guide this one.
         self.guide: Search | None = None
+        #: Optional early stop, asked by LAO* after each complete pass (values are then
+        #: consistent lower bounds): ``bounds.py`` stops once the certified gap is met,
+        #: which LAO*'s own test (no expansion, no changed action) can miss for a long
+        #: time when equal-valued actions keep trading places.
+        self.stop: Callable[[int], bool] | None = None
         #: LAO* passes / LRTDP trials / VI sweeps run so far (statistics only).
         self.iterations = 0
         self.deadline = None if time_limit is None else time.perf_counter() + time_limit
