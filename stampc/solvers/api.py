@@ -177,7 +177,10 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
     except SolverTimeout:
         converged = False
     search.seed(x0)
-    goal_probability = search.goal_probability(x0)
+    # past the time limit: one more second at most (the bounds evaluate it again anyway)
+    goal_probability = search.goal_probability(
+        x0, deadline=None if search.deadline is None else max(search.deadline,
+                                                              time.perf_counter()) + 1.0)
     expanded = len(search.expanded) + (len(search.guide.expanded) if search.guide else 0)
     elapsed = time.perf_counter() - start
     return Solution(init=state, expected_cost=search.V[x0], goal_probability=goal_probability,

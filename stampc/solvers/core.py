@@ -114,8 +114,9 @@ class Search:
         return order
 
     def goal_probability(self, init: int, tolerance: float = 1e-12,
-                         max_sweeps: int = 100_000) -> float:
-        """Probability of reaching a goal node from ``init`` under the greedy policy."""
+                         max_sweeps: int = 100_000, deadline: float | None = None) -> float:
+        """Probability of reaching a goal node from ``init`` under the greedy policy (the
+        sweeps start from 0, so a sweep cut short by ``deadline`` gives a lower bound)."""
         nodes = self.policy_graph(init)
         is_goal = self.space.cache.is_goal
         P = {x: 1.0 if x in self.terminal and is_goal(self.space.state(x)) else 0.0
@@ -125,7 +126,7 @@ class Search:
         for x in inner:
             _, _, probs, nexts = self.expanded[x][self.best[x]]
             rows.append((x, probs, nexts))
-        for _ in range(max_sweeps):
+        for sweep in range(max_sweeps):
             change = 0.0
             for x, probs, nexts in rows:
                 v = 0.0
@@ -137,4 +138,6 @@ class Search:
                 P[x] = v
             if change < tolerance:
                 break
+            if deadline is not None and sweep % 8 == 7 and time.perf_counter() > deadline:
+                break  # a search stopped by its time limit must not hang here
         return min(1.0, P[init])
