@@ -105,6 +105,26 @@ def _policy_rows(search: Search, init: int):
     return nodes, rows
 
 
+def _goal_reaching(rows: list, goals: set[int]) -> list:
+    """The rows of nodes from which the policy reaches a goal with positive probability.
+
+    The others loop forever without the goal: with zero-cost cycles (a trap) their
+    Bellman fixed point is any constant, so the iterate would certify a value the policy
+    never earns. They give up (cost D) instead, which makes the evaluated policy a real
+    one that fails there, as the dead-end convention prices failure."""
+    preds: dict[int, list[int]] = {}
+    for x, _, _, nexts in rows:
+        for n in nexts:
+            preds.setdefault(n, []).append(x)
+    good, stack = set(goals), list(goals)
+    while stack:
+        for x in preds.get(stack.pop(), ()):
+            if x not in good:
+                good.add(x)
+                stack.append(x)
+    return [row for row in rows if row[0] in good]
+
+
 def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
                     deadline: float | None = None) -> PolicyValue:
     """Certified upper bound on V*(init): the greedy policy's value (give-up = D where it
@@ -114,6 +134,7 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
     is_goal = search.space.cache.is_goal
     state_of = search.space.state
     nodes, rows = _policy_rows(search, init)
+    rows = _goal_reaching(rows, {x for x in nodes if x in terminal and is_goal(state_of(x))})
     acting = {x for x, _, _, _ in rows}
     u: dict[int, float] = {}
     P: dict[int, float] = {}

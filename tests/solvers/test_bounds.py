@@ -141,6 +141,25 @@ def test_gap_is_closed_where_a_bellman_residual_stops_short():
     assert bnd.gap <= 1e-8 and bnd.rounds > 1 and sol.converged
 
 
+def test_a_zero_cost_trap_is_never_certified_as_optimal():
+    """a <-> b at zero cost; the delete relaxation believes `forge` (needs a and b at
+    once) opens a cost-1 route, so LAO* settles on the loop at value 1. That policy never
+    reaches the goal: its evaluated cost is D, not 1, and no gap is certified below the
+    true best (exit at cost 10). FRET-style trap elimination is not implemented."""
+    b = ModelBuilder(["a", "b", "key", "goal"])
+    b.action("swap_ab", pre=["a"], outcomes=[(1, ["b"], ["a"])], cost=0)
+    b.action("swap_ba", pre=["b"], outcomes=[(1, ["a"], ["b"])], cost=0)
+    b.action("forge", pre=["a", "b"], outcomes=[(1, ["key"], [])], cost=0)
+    b.action("use", pre=["key"], outcomes=[(1, ["goal"], [])], cost=1)
+    b.action("exit", pre=["a"], outcomes=[(1, ["goal"], [])], cost=10)
+    model = b.build(init=["a"], goal=["goal"])
+    sol, bnd = solve_bounded(model, SolverOptions(dead_end_cost=D))
+    assert bnd.lower <= 10.0 + 1e-9  # still a lower bound
+    assert bnd.upper >= 10.0 - 1e-9  # the evaluated policy's real cost (D for the loop)
+    assert not bnd.certified or bnd.upper <= 10.0 + 1e-9
+    assert bnd.goal_probability == 0.0 or bnd.upper < D
+
+
 def test_gap_check_stops_lao_early_with_bracketing_bounds():
     """The between-pass check ends LAO* (residual 1e-9) as soon as the certified gap is
     1e-2; wherever it did, the bounds at that moment meet it and bracket V*."""
