@@ -32,11 +32,16 @@ from dataclasses import dataclass
 
 from stampc.ir.grounded import GroundModel
 from stampc.solvers.core import Search
+from stampc.solvers.fret import eliminate_traps, repair_policy
 from stampc.solvers.names import ADMISSIBLE
 from stampc.solvers.solution import Solution, SolverOptions
 
 #: The Bellman residual is not tightened below this (float noise on values ~1e3).
 MIN_RESIDUAL = 1e-12
+#: Policy repairs (fret.py) per evaluation, at most.
+REPAIR_ROUNDS = 10
+#: Searches resumed after raising zero-cost traps (fret.py), at most.
+MAX_TRAP_ROUNDS = 50
 #: Policy evaluation: at most this many Gauss-Seidel sweeps per bound computation.
 MAX_EVAL_SWEEPS = 20_000
 
@@ -48,6 +53,7 @@ class PolicyValue:
     goal_probability: float
     states: int
     residual: float
+    looping: int = 0  # nodes of a complete policy graph that never reach the goal (traps)
 
 
 @dataclass(frozen=True)
@@ -105,8 +111,8 @@ def _policy_rows(search: Search, init: int):
     return nodes, rows
 
 
-def _goal_reaching(rows: list, goals: set[int]) -> list:
-    """The rows of nodes from which the policy reaches a goal with positive probability.
+def _goal_reaching(rows: list, goals: set[int]) -> set[int]:
+    """The nodes from which the policy reaches a goal with positive probability.
 
     The others loop forever without the goal: with zero-cost cycles (a trap) their
     Bellman fixed point is any constant, so the iterate would certify a value the policy
@@ -122,7 +128,7 @@ def _goal_reaching(rows: list, goals: set[int]) -> list:
             if x not in good:
                 good.add(x)
                 stack.append(x)
-    return [row for row in rows if row[0] in good]
+    return good
 
 
 def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
@@ -133,8 +139,20 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
     V, terminal = search.V, search.terminal
     is_goal = search.space.cache.is_goal
     state_of = search.space.state
-    nodes, rows = _policy_rows(search, init)
-    rows = _goal_reaching(rows, {x for x in nodes if x in terminal and is_goal(state_of(x))})
+    def goal_node(x: int) -> bool:
+        return x in terminal and is_goal(state_of(x))
+
+    for _ in range(REPAIR_ROUNDS):
+        nodes, rows = _policy_rows(search, init)
+        good = _goal_reaching(rows, {x for x in nodes if goal_node(x)})
+        bad = [row[0] for row in rows if row[0] not in good]
+        # only a complete policy graph (no unexpanded tip) can hold a trap worth repairing
+        if not bad or any(x not in search.expanded and x not in terminal for x in nodes):
+            bad = []  # partial graph: its failures are unexpanded tips, not traps
+            break
+        if not repair_policy(search, init, bad, goal_node):
+            break
+    rows = [row for row in rows if row[0] in good]
     acting = {x for x, _, _, _ in rows}
     u: dict[int, float] = {}
     P: dict[int, float] = {}
@@ -180,7 +198,7 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
     else:
         upper = D  # cannot certify the iterate: giving up at once is always possible
     return PolicyValue(upper=upper, goal_probability=min(1.0, P[init]), states=len(nodes),
-                       residual=rho)
+                       residual=rho, looping=len(bad))
 
 
 class GapCheck:
@@ -225,6 +243,15 @@ def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool 
     while True:
         x0 = solution.search.space.node(solution.init, 0)
         value = evaluate_policy(solution.search, x0, deadline=deadline)
+        left = None if deadline is None else deadline - time.perf_counter()
+        if (value.looping and lower_ok and solution.converged and rounds < MAX_TRAP_ROUNDS
+                and (left is None or left > 0) and eliminate_traps(solution.search, x0)):
+            # zero-cost traps raised to their exit value (fret.py): search on from there
+            again = dataclasses.replace(options, epsilon=residual, time_limit=left)
+            solution = solve(model, again, init=solution.init, warm=solution, stop=check)
+            expanded += solution.states_expanded
+            rounds += 1
+            continue
         lower = min(solution.search.V[x0], value.upper) if lower_ok else None
         bounds = Bounds(lower=lower, upper=value.upper, goal_probability=value.goal_probability,
                         relative=relative, target=options.epsilon, rounds=rounds,
