@@ -145,7 +145,9 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
     for _ in range(REPAIR_ROUNDS):
         nodes, rows = _policy_rows(search, init)
         good = _goal_reaching(rows, {x for x in nodes if goal_node(x)})
-        bad = [row[0] for row in rows if row[0] not in good]
+        # valued below D yet never reaching the goal: a trap (a node whose policy only
+        # leads to give-ups is worth ~D already and needs no repair)
+        bad = [row[0] for row in rows if row[0] not in good and V[row[0]] < D * (1 - 1e-9)]
         # only a complete policy graph (no unexpanded tip) can hold a trap worth repairing
         if not bad or any(x not in search.expanded and x not in terminal for x in nodes):
             bad = []  # partial graph: its failures are unexpanded tips, not traps
