@@ -132,7 +132,7 @@ def _goal_reaching(rows: list, goals: set[int]) -> set[int]:
 
 
 def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
-                    deadline: float | None = None) -> PolicyValue:
+                    deadline: float | None = None, repair: bool = False) -> PolicyValue:
     """Certified upper bound on V*(init): the greedy policy's value (give-up = D where it
     has no action), see the module docstring for the residual correction."""
     D = search.dead_end_cost
@@ -142,7 +142,9 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
     def goal_node(x: int) -> bool:
         return x in terminal and is_goal(state_of(x))
 
-    for _ in range(REPAIR_ROUNDS):
+    # repairs (and trap detection) only for a search that has converged: between LAO*
+    # passes they would re-point choices mid-search and cost time on large graphs
+    for _ in range(REPAIR_ROUNDS if repair else 1):
         nodes, rows = _policy_rows(search, init)
         good = _goal_reaching(rows, {x for x in nodes if goal_node(x)})
         # valued below D yet never reaching the goal: a trap (a node whose policy only
@@ -152,7 +154,7 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
         if not bad or any(x not in search.expanded and x not in terminal for x in nodes):
             bad = []  # partial graph: its failures are unexpanded tips, not traps
             break
-        if not repair_policy(search, init, bad, goal_node):
+        if not repair or not repair_policy(search, init, bad, goal_node):
             break
     rows = [row for row in rows if row[0] in good]
     acting = {x for x, _, _, _ in rows}
@@ -244,7 +246,8 @@ def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool 
     expanded, rounds, residual = solution.states_expanded, 1, options.epsilon
     while True:
         x0 = solution.search.space.node(solution.init, 0)
-        value = evaluate_policy(solution.search, x0, deadline=deadline)
+        value = evaluate_policy(solution.search, x0, deadline=deadline,
+                                repair=solution.converged)
         left = None if deadline is None else deadline - time.perf_counter()
         if (value.looping and lower_ok and solution.converged and rounds < MAX_TRAP_ROUNDS
                 and (left is None or left > 0) and eliminate_traps(solution.search, x0)):
