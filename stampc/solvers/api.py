@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import math
 import time
+from typing import Callable
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.grounded import GroundModel
@@ -132,7 +133,8 @@ def _run_guide(search: Search, state: int, epsilon: float) -> None:
 
 def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
           init: int | None = None, warm: Solution | None = None,
-          learned: tuple[int, int] | None = None) -> Solution:
+          learned: tuple[int, int] | None = None,
+          stop: Callable[[Search, int], bool] | None = None) -> Solution:
     """Solve the SSP of ``model`` from ``init`` (default ``model.init``).
 
     ``warm`` reuses the value tables of a previous solution on the same model where they
@@ -140,11 +142,15 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
     state with newly learned facts cheap. ``learned`` = (facts learned true, facts
     learned false) since ``warm`` was computed: nodes that differ from ``warm``'s
     expanded nodes only by them start from those nodes' values (see :func:`_transfer`).
+    ``stop(search, node)``, asked by LAO* after each pass, ends the search early (counted
+    as converged: the caller has its own criterion, e.g. a certified gap).
     """
     check_options(options)
     start = time.perf_counter()
     horizon = options.horizon if options.horizon is not None else model.horizon
     search = _make_search(model, options, horizon, warm, learned)
+    if stop is not None:
+        search.stop = lambda x: stop(search, x)
     state = model.init if init is None else init
     x0 = search.space.node(state, 0)
     guide_before = len(search.guide.expanded) if search.guide else 0
@@ -171,7 +177,10 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
     except SolverTimeout:
         converged = False
     search.seed(x0)
-    goal_probability = search.goal_probability(x0)
+    # past the time limit: one more second at most (the bounds evaluate it again anyway)
+    goal_probability = search.goal_probability(
+        x0, deadline=None if search.deadline is None else max(search.deadline,
+                                                              time.perf_counter()) + 1.0)
     expanded = len(search.expanded) + (len(search.guide.expanded) if search.guide else 0)
     elapsed = time.perf_counter() - start
     return Solution(init=state, expected_cost=search.V[x0], goal_probability=goal_probability,

@@ -32,11 +32,16 @@ from dataclasses import dataclass
 
 from stampc.ir.grounded import GroundModel
 from stampc.solvers.core import Search
+from stampc.solvers.fret import eliminate_traps, repair_policy
 from stampc.solvers.names import ADMISSIBLE
 from stampc.solvers.solution import Solution, SolverOptions
 
 #: The Bellman residual is not tightened below this (float noise on values ~1e3).
 MIN_RESIDUAL = 1e-12
+#: Policy repairs (fret.py) per evaluation, at most.
+REPAIR_ROUNDS = 10
+#: Searches resumed after raising zero-cost traps (fret.py), at most.
+MAX_TRAP_ROUNDS = 50
 #: Policy evaluation: at most this many Gauss-Seidel sweeps per bound computation.
 MAX_EVAL_SWEEPS = 20_000
 
@@ -48,6 +53,7 @@ class PolicyValue:
     goal_probability: float
     states: int
     residual: float
+    looping: int = 0  # nodes of a complete policy graph that never reach the goal (traps)
 
 
 @dataclass(frozen=True)
@@ -105,15 +111,52 @@ def _policy_rows(search: Search, init: int):
     return nodes, rows
 
 
+def _goal_reaching(rows: list, goals: set[int]) -> set[int]:
+    """The nodes from which the policy reaches a goal with positive probability.
+
+    The others loop forever without the goal: with zero-cost cycles (a trap) their
+    Bellman fixed point is any constant, so the iterate would certify a value the policy
+    never earns. They give up (cost D) instead, which makes the evaluated policy a real
+    one that fails there, as the dead-end convention prices failure."""
+    preds: dict[int, list[int]] = {}
+    for x, _, _, nexts in rows:
+        for n in nexts:
+            preds.setdefault(n, []).append(x)
+    good, stack = set(goals), list(goals)
+    while stack:
+        for x in preds.get(stack.pop(), ()):
+            if x not in good:
+                good.add(x)
+                stack.append(x)
+    return good
+
+
 def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
-                    deadline: float | None = None) -> PolicyValue:
+                    deadline: float | None = None, repair: bool = False) -> PolicyValue:
     """Certified upper bound on V*(init): the greedy policy's value (give-up = D where it
     has no action), see the module docstring for the residual correction."""
     D = search.dead_end_cost
     V, terminal = search.V, search.terminal
     is_goal = search.space.cache.is_goal
     state_of = search.space.state
-    nodes, rows = _policy_rows(search, init)
+    def goal_node(x: int) -> bool:
+        return x in terminal and is_goal(state_of(x))
+
+    # repairs (and trap detection) only for a search that has converged: between LAO*
+    # passes they would re-point choices mid-search and cost time on large graphs
+    for _ in range(REPAIR_ROUNDS if repair else 1):
+        nodes, rows = _policy_rows(search, init)
+        good = _goal_reaching(rows, {x for x in nodes if goal_node(x)})
+        # valued below D yet never reaching the goal: a trap (a node whose policy only
+        # leads to give-ups is worth ~D already and needs no repair)
+        bad = [row[0] for row in rows if row[0] not in good and V[row[0]] < D * (1 - 1e-9)]
+        # only a complete policy graph (no unexpanded tip) can hold a trap worth repairing
+        if not bad or any(x not in search.expanded and x not in terminal for x in nodes):
+            bad = []  # partial graph: its failures are unexpanded tips, not traps
+            break
+        if not repair or not repair_policy(search, init, bad, goal_node):
+            break
+    rows = [row for row in rows if row[0] in good]
     acting = {x for x, _, _, _ in rows}
     u: dict[int, float] = {}
     P: dict[int, float] = {}
@@ -159,7 +202,33 @@ def evaluate_policy(search: Search, init: int, tolerance: float = 1e-12,
     else:
         upper = D  # cannot certify the iterate: giving up at once is always possible
     return PolicyValue(upper=upper, goal_probability=min(1.0, P[init]), states=len(nodes),
-                       residual=rho)
+                       residual=rho, looping=len(bad))
+
+
+class GapCheck:
+    """``stop`` callback for LAO*: evaluates the bounds between passes and says when the
+    certified gap is met. Throttled so that evaluations take at most about a fifth of
+    the time: the next one waits 4x as long as the last one took (at least 0.5 s)."""
+
+    def __init__(self, relative: bool, target: float, deadline: float | None,
+                 min_interval: float = 0.5):
+        self.relative, self.target, self.deadline = relative, target, deadline
+        self.min_interval = min_interval
+        self.next_at = time.perf_counter() + min_interval
+        self.met = 0  # evaluations that found the gap met (statistics, tests)
+
+    def __call__(self, search: Search, init: int) -> bool:
+        now = time.perf_counter()
+        if now < self.next_at:
+            return False
+        value = evaluate_policy(search, init, deadline=self.deadline)
+        lower = min(search.V[init], value.upper)
+        gap = value.upper - lower
+        done = gap <= (self.target * abs(value.upper) if self.relative else self.target)
+        spent = time.perf_counter() - now
+        self.next_at = time.perf_counter() + max(self.min_interval, 4 * spent)
+        self.met += done
+        return done
 
 
 def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool = True,
@@ -172,11 +241,22 @@ def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool 
     start = time.perf_counter()
     deadline = None if options.time_limit is None else start + options.time_limit
     lower_ok = admissible(options)
-    solution = solve(model, options, init=init)
+    check = GapCheck(relative, options.epsilon, deadline) if lower_ok else None
+    solution = solve(model, options, init=init, stop=check)
     expanded, rounds, residual = solution.states_expanded, 1, options.epsilon
     while True:
         x0 = solution.search.space.node(solution.init, 0)
-        value = evaluate_policy(solution.search, x0, deadline=deadline)
+        value = evaluate_policy(solution.search, x0, deadline=deadline,
+                                repair=solution.converged)
+        left = None if deadline is None else deadline - time.perf_counter()
+        if (value.looping and lower_ok and solution.converged and rounds < MAX_TRAP_ROUNDS
+                and (left is None or left > 0) and eliminate_traps(solution.search, x0)):
+            # zero-cost traps raised to their exit value (fret.py): search on from there
+            again = dataclasses.replace(options, epsilon=residual, time_limit=left)
+            solution = solve(model, again, init=solution.init, warm=solution, stop=check)
+            expanded += solution.states_expanded
+            rounds += 1
+            continue
         lower = min(solution.search.V[x0], value.upper) if lower_ok else None
         bounds = Bounds(lower=lower, upper=value.upper, goal_probability=value.goal_probability,
                         relative=relative, target=options.epsilon, rounds=rounds,
@@ -187,7 +267,7 @@ def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool 
             break
         residual = max(MIN_RESIDUAL, residual / 10)
         tighter = dataclasses.replace(options, epsilon=residual, time_limit=left)
-        solution = solve(model, tighter, init=solution.init, warm=solution)
+        solution = solve(model, tighter, init=solution.init, warm=solution, stop=check)
         expanded += solution.states_expanded
         rounds += 1
     # a run stopped by the time limit stays "not converged" (exit 3) even if its bounds

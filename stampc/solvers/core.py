@@ -10,6 +10,7 @@ warm-start value). The algorithms read ``expanded[x]`` directly in their inner l
 from __future__ import annotations
 
 import time
+from typing import Callable
 
 from stampc.solvers.space import Space
 from stampc.solvers.successors import Transition
@@ -29,6 +30,11 @@ class Search:
         self.expanded: dict[int, tuple[Transition, ...]] = {}
         #: Finite horizon: the stationary search whose values guide this one.
         self.guide: Search | None = None
+        #: Optional early stop, asked by LAO* after each complete pass (values are then
+        #: consistent lower bounds): ``bounds.py`` stops once the certified gap is met,
+        #: which LAO*'s own test (no expansion, no changed action) can miss for a long
+        #: time when equal-valued actions keep trading places.
+        self.stop: Callable[[int], bool] | None = None
         #: LAO* passes / LRTDP trials / VI sweeps run so far (statistics only).
         self.iterations = 0
         self.deadline = None if time_limit is None else time.perf_counter() + time_limit
@@ -108,8 +114,9 @@ class Search:
         return order
 
     def goal_probability(self, init: int, tolerance: float = 1e-12,
-                         max_sweeps: int = 100_000) -> float:
-        """Probability of reaching a goal node from ``init`` under the greedy policy."""
+                         max_sweeps: int = 100_000, deadline: float | None = None) -> float:
+        """Probability of reaching a goal node from ``init`` under the greedy policy (the
+        sweeps start from 0, so a sweep cut short by ``deadline`` gives a lower bound)."""
         nodes = self.policy_graph(init)
         is_goal = self.space.cache.is_goal
         P = {x: 1.0 if x in self.terminal and is_goal(self.space.state(x)) else 0.0
@@ -119,7 +126,7 @@ class Search:
         for x in inner:
             _, _, probs, nexts = self.expanded[x][self.best[x]]
             rows.append((x, probs, nexts))
-        for _ in range(max_sweeps):
+        for sweep in range(max_sweeps):
             change = 0.0
             for x, probs, nexts in rows:
                 v = 0.0
@@ -131,4 +138,6 @@ class Search:
                 P[x] = v
             if change < tolerance:
                 break
+            if deadline is not None and sweep % 8 == 7 and time.perf_counter() > deadline:
+                break  # a search stopped by its time limit must not hang here
         return min(1.0, P[init])

@@ -65,3 +65,5 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
         search.check_time()
         if expansions == 0 and not changed and residual < epsilon:
             return
+        if search.stop is not None and search.stop(init):
+            return

@@ -161,6 +161,11 @@ class SuccessorCache:
         out = table[state] = tuple(result)
         return out
 
+    def float_outcomes(self, state: int, action: int) -> list[Outcome]:
+        """Outcomes with float arithmetic (for sampling: conditional effects are not
+        enumerated with ``Fraction``; order may differ from :meth:`outcomes`)."""
+        return self._float_outcomes(state, action)
+
     def _float_outcomes(self, state: int, action: int):
         """Like :meth:`outcomes` but with float arithmetic for conditional effects (not
         necessarily in the model's outcome order; solvers merge by next state anyway)."""

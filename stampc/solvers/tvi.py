@@ -15,11 +15,14 @@ from stampc.solvers.core import Search
 from stampc.solvers.vi import reachable, sweep_until_converged
 
 
-def components(search: Search, nodes: list[int]) -> list[list[int]]:
-    """Strongly connected components of the expanded ``nodes`` (all actions), successors'
-    components before their predecessors'."""
+def components(search: Search, nodes: list[int],
+               edges: dict[int, set[int]] | None = None) -> list[list[int]]:
+    """Strongly connected components of the expanded ``nodes`` (all actions, or the given
+    ``edges``), successors' components before their predecessors'."""
     expanded = search.expanded
     inner = set(nodes)
+    if edges is not None:  # in the shape of transitions, for _succ
+        expanded = {x: ((None, 0.0, (), tuple(nexts)),) for x, nexts in edges.items()}
     index: dict[int, int] = {}
     low: dict[int, int] = {}
     on_stack: set[int] = set()
@@ -65,7 +68,7 @@ def components(search: Search, nodes: list[int]) -> list[list[int]]:
 
 
 def _succ(expanded, x: int, inner: set[int]):
-    return iter({n for _, _, _, nexts in expanded[x] for n in nexts if n in inner})
+    return iter({n for _, _, _, nexts in expanded.get(x, ()) for n in nexts if n in inner})
 
 
 def topological_vi(search: Search, init: int, epsilon: float) -> None:

@@ -63,8 +63,10 @@ class ModelBuilder:
                            has_costs=True)
 
 
-def random_model(seed: int, n_facts: int = 5, n_actions: int = 7) -> GroundModel:
-    """A random small SSP: conjunctive preconditions, 1-3 outcomes, integer costs."""
+def random_model(seed: int, n_facts: int = 5, n_actions: int = 7,
+                 zero_cost_share: float = 0.0) -> GroundModel:
+    """A random small SSP: conjunctive preconditions, 1-3 outcomes, integer costs; with
+    ``zero_cost_share`` > 0 that share of the actions costs nothing (zero-cost cycles)."""
     rng = random.Random(seed)
     names = [f"f{i}" for i in range(n_facts)]
     b = ModelBuilder(names)
@@ -79,7 +81,10 @@ def random_model(seed: int, n_facts: int = 5, n_actions: int = 7) -> GroundModel
             add = rng.sample(names, rng.randint(0, 2))
             delete = [n for n in rng.sample(names, rng.randint(0, 2)) if n not in add]
             outcomes.append((Fraction(w, total), add, delete, rng.randint(0, 2)))
-        b.action(f"a{k}", pre, neg, outcomes, cost=rng.randint(1, 3))
+        cost = rng.randint(1, 3)
+        if zero_cost_share and rng.random() < zero_cost_share:
+            cost, outcomes = 0, [(p, add, delete, 0) for p, add, delete, _ in outcomes]
+        b.action(f"a{k}", pre, neg, outcomes, cost=cost)
     init = [n for n in names if rng.random() < 0.3]
     goal = rng.sample(names, rng.randint(1, 2))
     return b.build(init, goal)
@@ -149,6 +154,26 @@ def reference_values(model: GroundModel, dead_end_cost: float, unit_cost: bool =
             for _, outs in succ[s]:
                 best = min(best, sum(p * (c + V[n]) for p, n, c in outs))
             new[s] = best
+        change = max(abs(new[s] - V[s]) for s in states)
+        V = new
+        if change < tol:
+            break
+    return V
+
+
+def reference_from_above(model: GroundModel, dead_end_cost: float, tol: float = 1e-12,
+                         max_iter: int = 200_000) -> dict[int, float]:
+    """Jacobi value iteration started at D: the greatest fixed point below D, the optimum
+    where looping forever without the goal counts as failure (FRET's semantics; the
+    least fixed point, from 0, values a zero-cost loop at 0)."""
+    states = reachable_states(model)
+    succ = {s: list(_successors(model, s, False)) for s in states}
+    V = {s: 0.0 if model.is_goal(s) else dead_end_cost for s in states}
+    for _ in range(max_iter):
+        new = {s: 0.0 if model.is_goal(s) else
+               min([dead_end_cost] + [sum(p * (c + V[n]) for p, n, c in outs)
+                                      for _, outs in succ[s]])
+               for s in states}
         change = max(abs(new[s] - V[s]) for s in states)
         V = new
         if change < tol:
