@@ -34,7 +34,6 @@ TARGET = "can0"  # the fixed-base scenes' target (the paper's scene draws its ow
 #: "plane2d-fixed": the fixed-base scenes with arranged blockers, domain_fixed.stamp
 WORLDS = ("pybullet", "plane2d", "pybullet-fixed", "plane2d-fixed")
 NEAR = 0.85  # m: the Panda's reach (its top-grasp reach over the table is ~0.8 m)
-MOBILE_BUILDERS = {"pybullet": "build_random", "plane2d": "build2d_random"}
 
 
 @dataclass(frozen=True)
@@ -87,6 +86,10 @@ def build2d_random(n: int = 15, seed: int = 0, **kwargs: Any) -> dict:
     return scene
 
 
+#: the paper's (mobile-base) scene builder of each world
+MOBILE_BUILDERS = {"pybullet": build_random, "plane2d": build2d_random}
+
+
 def build2d(n: int = 15, seed: int = 0, *, blockers: int = 2, shelf: bool = True,
             **kwargs: Any) -> dict:
     """The plane2d scene (``stampc.worlds.plane2d.scenes.cluttered``), same names."""
@@ -116,10 +119,9 @@ def problem_text(n: int = 15, seed: int = 0, variant: str = "mid",
     if world not in MOBILE_BUILDERS:
         return _fixed_problem(inst)
     builder = MOBILE_BUILDERS[world]
-    scene = build_random(n, seed) if world == "pybullet" else build2d_random(n, seed)
+    scene = builder(n, seed)
     cans = [o["name"] for o in scene["objects"]]
-    target, bases = scene["meta"]["target"], scene["meta"]["bases"]
-    size = scene["meta"].get("table") or _table_size(scene)
+    target, bases, size = scene["meta"]["target"], scene["meta"]["bases"], scene["meta"]["table"]
     delicate = [c for c in inst.delicate if c in cans]
     lines = [
         f"# {len(cans)} cans at random on a {' x '.join(map(str, size))} m "
@@ -142,14 +144,10 @@ def problem_text(n: int = 15, seed: int = 0, variant: str = "mid",
     lines += [f"     at({c}, pose_{c})" for c in cans]
     lines += [f"     near({b}, pose_{c})" for c, b in near_bases(scene)]
     lines += ["", f"goal holding({target})", "",
-              f'scene builder "examples.cluttered_table.scene:{builder}"(n={n}, seed={seed})',
+              f'scene builder "examples.cluttered_table.scene:{builder.__name__}"'
+              f'(n={n}, seed={seed})',
               ""]
     return "\n".join(lines)
-
-
-def _table_size(scene: dict) -> tuple[float, float]:
-    t = scene["table"]
-    return (round(t["x1"] - t["x0"], 3), round(t["y1"] - t["y0"], 3))
 
 
 def near_bases(scene: dict) -> list[tuple[str, str]]:

@@ -25,8 +25,7 @@ from __future__ import annotations
 from typing import Any, Iterator
 
 from stampc.worlds.base import ConcreteAction, Context
-from stampc.worlds.plane2d.manipulation import (_approach_angles, _config_ok, _follow,
-                                                grasp, grasp_config, placement)
+from stampc.worlds.plane2d.manipulation import _follow, grasp, placement, reachable_from
 from stampc.worlds.plane2d.manipulation import discard as _remove
 from stampc.worlds.plane2d.support import arg, name_arg, world_of
 from stampc.worlds.plane2d.values import Config2, Grasp2, Pose2, as_pose
@@ -70,11 +69,10 @@ def bin_drop(ctx: Context, o: str) -> Iterator[tuple[Config2]]:
 def reaches(ctx: Context, b: str, o: str, p: Any) -> bool:
     """Some contact grasp of ``o`` at ``p`` is within reach of base ``b`` and clear of
     static geometry."""
-    world, p = world_of(ctx), as_pose(p)
+    world = world_of(ctx)
     base = world.base_position(b)
     world.spec(o)
-    return any(_config_ok(world, grasp_config(world, o, p, a), base)
-               for a in _approach_angles(world, p, base))
+    return reachable_from(world, o, as_pose(p), base)
 
 
 def move_base(ctx: Context, action: ConcreteAction) -> None:

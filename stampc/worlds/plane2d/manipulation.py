@@ -86,9 +86,13 @@ def grasp(ctx: Context, o: str, p: Any) -> Iterator[tuple[Grasp2, Config2]]:
 
 def reachable(ctx: Context, o: str, p: Any) -> bool:
     """Some contact grasp of ``o`` at ``p`` is within reach and clear of static geometry."""
-    world, p = world_of(ctx), as_pose(p)
-    return any(_config_ok(world, grasp_config(world, o, p, a))
-               for a in _approach_angles(world, p))
+    return reachable_from(world_of(ctx), o, as_pose(p))
+
+
+def reachable_from(world: Plane2DWorld, o: str, p: Pose2, base: Point | None = None) -> bool:
+    """``reachable`` from the robot base where it stands, or from ``base``."""
+    return any(_config_ok(world, grasp_config(world, o, p, a), base)
+               for a in _approach_angles(world, p, base))
 
 
 # ------------------------------------------------------------------ placement

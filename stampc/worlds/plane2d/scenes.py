@@ -74,8 +74,7 @@ def cluttered(n: int, seed: int, *, target: str = "can0", blockers: int = 2,
         poses[name] = _sample(rng, placed, radius, gap, name, lambda: _corridor_point(
             rng, grasp, (ux, uy), reach_r, lateral, far), walls)
     for name in order[1 + blockers:]:
-        poses[name] = _sample(rng, placed, radius, gap, name, lambda: (
-            rng.uniform(radius, TABLE["x1"] - radius), rng.uniform(radius, TABLE["y1"] - radius)),
+        poses[name] = _sample(rng, placed, radius, gap, name, lambda: _table_point(rng, radius),
             walls)
     surfaces = {"table": dict(TABLE)}
     if tray:
@@ -109,8 +108,7 @@ def cluttered_mobile(n: int, seed: int, *, radius: float = 0.035,
     placed: list[tuple[float, float, float]] = []
     objects = []
     for i in range(n):
-        x, y = _sample(rng, placed, radius, gap, f"can{i}", lambda: (
-            rng.uniform(radius, TABLE["x1"] - radius), rng.uniform(radius, TABLE["y1"] - radius)),
+        x, y = _sample(rng, placed, radius, gap, f"can{i}", lambda: _table_point(rng, radius),
             tray=None)
         objects.append({"name": f"can{i}", "shape": "disc", "radius": radius, "x": x, "y": y,
                         "theta": 0.0})
@@ -124,8 +122,13 @@ def cluttered_mobile(n: int, seed: int, *, radius: float = 0.035,
         "objects": objects,
         "poses": {f"pose_can{i}": f"can{i}" for i in range(n)},
         "meta": {"target": f"can{rng.randrange(n)}", "bases": [b for b, _ in MOBILE_BASES],
-                 "seed": seed},
+                 "table": [TABLE["x1"] - TABLE["x0"], TABLE["y1"] - TABLE["y0"]], "seed": seed},
     }
+
+
+def _table_point(rng: random.Random, radius: float) -> tuple[float, float]:
+    """A uniform centre for a disc of ``radius`` on the table."""
+    return rng.uniform(radius, TABLE["x1"] - radius), rng.uniform(radius, TABLE["y1"] - radius)
 
 
 def _corridor_point(rng: random.Random, grasp, u, reach_r: float, lateral: float,
