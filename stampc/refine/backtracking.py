@@ -64,16 +64,35 @@ class Backtracking:
         target.resamples += 1
         detach_subtree(new_graph, target.uid, self.uids)
         self.resamples += 1
-        v = self.prg.number_of_nodes()
-        self.prg.add_node(v, graph=new_graph, parent=self.current, failed=False)
-        self.prg.add_edge(self.current, v, node=ancestor.uid, kind="resample",
-                          failed_node=failed.uid, failed_preconditions=[],
-                          concretization=sorted(map(str, (ancestor.sigma or {}).keys())))
+        v = self._add_prg_node(new_graph, ancestor.uid, kind="resample",
+                               failed_node=failed.uid, failed_preconditions=[],
+                               concretization=sorted(map(str, (ancestor.sigma or {}).keys())))
         self.current = v
         self._track(v, new_graph)
         label = self.model.actions[ancestor.action].label
         return "resample", (f"{label}: new generator values (no refinement of "
                             f"{self.model.actions[failed.action].label} below it)")
+
+    def _replanned(self, graph: PolicyGraph, uid: int, state: int,
+                   forced: int | None = None,
+                   learned: tuple[int, int] | None = None) -> PolicyGraph:
+        """A copy of ``graph`` whose node ``uid`` gets the policy planned from ``state``
+        (``forced``: its first action; ``learned``: masks for the incremental re-solve)."""
+        new_graph = graph.copy()
+        target = new_graph[uid]
+        sub = self._graft_growing(new_graph, state, target.depth, forced, learned)
+        self._adopt(new_graph, target, new_graph[sub])
+        new_graph.prune()
+        return new_graph
+
+    def _add_prg_node(self, graph: PolicyGraph, node: int, failed: bool = False,
+                      **edge) -> int:
+        """A new PRG node holding ``graph``, a child of the current one; the edge records
+        the policy node the step was at and what it did (``edge``)."""
+        v = self.prg.number_of_nodes()
+        self.prg.add_node(v, graph=graph, parent=self.current, failed=failed)
+        self.prg.add_edge(self.current, v, node=node, **edge)
+        return v
 
     def _lift_bans(self, invalidated) -> None:
         """Bans recorded at nodes whose concrete state a re-sample invalidates came from
@@ -109,21 +128,15 @@ class Backtracking:
         ``replan_above`` ancestors on ``path`` from which the goal is still reachable;
         its subtree is replaced (new PRG node). None if none of them has a way."""
         for uid in list(reversed(path[:-1]))[:self.options.replan_above]:
-            new_graph = graph.copy()
-            target = new_graph[uid]
-            before = target.action
-            sub = self._graft_growing(new_graph, target.state, target.depth, None, None)
-            self._adopt(new_graph, target, new_graph[sub])
-            new_graph.prune()
+            new_graph = self._replanned(graph, uid, graph[uid].state)
             if not has_way(new_graph, uid):
                 continue
             self._lift_bans(graph.reachable(uid))  # they came from concrete states now gone
-            v = self.prg.number_of_nodes()
-            self.prg.add_node(v, graph=new_graph, parent=self.current, failed=False)
-            self.prg.add_edge(self.current, v, node=uid, kind="replan", failed_preconditions=[],
-                              concretization=[])
+            v = self._add_prg_node(new_graph, uid, kind="replan", failed_preconditions=[],
+                                   concretization=[])
             self.current = v
             self._track(v, new_graph)
+            before = graph[uid].action
             label = self.model.actions[before].label if before is not None else "a leaf"
             return "update", f"replanned at {label} without the actions banned everywhere"
         return None

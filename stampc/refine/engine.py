@@ -328,9 +328,7 @@ class Engine(Backtracking, Reporting):
     def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
                 path: tuple[int, ...] = ()) -> tuple[str, str]:
         """UpdateAbstraction: write the true facts at ``node``, replan below it (new PRG node)."""
-        new_graph = graph.copy()
-        target = new_graph[node.uid]
-        state = target.state
+        state = node.state
         for fact, value in learned:
             state = state | (1 << fact) if value else state & ~(1 << fact)
         state = self.model.axioms.close(state)  # derived facts follow the learned ones
@@ -339,11 +337,9 @@ class Engine(Backtracking, Reporting):
             forced = self.planner.random_action(state, self.rng, exclude=node.action)
             kind = "explore" if forced is not None else kind
         masks = (sum(1 << f for f, v in learned if v), sum(1 << f for f, v in learned if not v))
-        sub = self._graft_growing(new_graph, state, target.depth, forced,
-                                  masks if any(masks) else None)
-        self._adopt(new_graph, target, new_graph[sub])
-        target.learned = target.learned + tuple(learned)
-        new_graph.prune()
+        new_graph = self._replanned(graph, node.uid, state, forced,
+                                    masks if any(masks) else None)
+        new_graph[node.uid].learned = node.learned + tuple(learned)
         # learned facts that leave no way to the goal below this node most likely come
         # from an unlucky sample: backtrack rather than accept a dead end
         failed = not has_way(new_graph, node.uid)
@@ -355,11 +351,9 @@ class Engine(Backtracking, Reporting):
                 return above
             self._lift_bans_everywhere()
             return self._update(graph, node, learned, kind, path)
-        v = self.prg.number_of_nodes()
         facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
-        self.prg.add_node(v, graph=new_graph, parent=self.current, failed=failed)
-        self.prg.add_edge(self.current, v, node=node.uid, failed_preconditions=facts,
-                          concretization=sorted(map(str, (node.sigma or {}).keys())))
+        v = self._add_prg_node(new_graph, node.uid, failed, failed_preconditions=facts,
+                               concretization=sorted(map(str, (node.sigma or {}).keys())))
         if failed:
             # UpdateAbstraction cannot help: revise an earlier choice on the path first
             # (Alg. 1), then fall back to the PRG's iterative broadening
