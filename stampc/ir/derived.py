@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 from itertools import count, product
-from typing import Iterable, Iterator
+from typing import Callable, Iterable, Iterator
 
 from stampc.diagnostics import Diagnostic, StampcError, error
 from stampc.ir import lifted as L
@@ -259,15 +259,9 @@ def _substitute(f: L.Formula, defs: dict[str, L.Axiom], fresh: Iterator[int]) ->
             return f
         env = {p.name: t for p, t in zip(ax.params, f.args)}
         return _substitute_vars(ax.body, env, fresh)
-    if isinstance(f, L.Not):
-        return L.Not(_substitute(f.arg, defs, fresh))
-    if isinstance(f, (L.And, L.Or)):
-        return type(f)(tuple(_substitute(a, defs, fresh) for a in f.args))
-    if isinstance(f, L.Imply):
-        return L.Imply(_substitute(f.left, defs, fresh), _substitute(f.right, defs, fresh))
     if isinstance(f, (L.Forall, L.Exists)):
         return type(f)(f.params, _substitute(f.body, defs, fresh))
-    return f
+    return _map_connective(f, lambda g: _substitute(g, defs, fresh))
 
 
 def _substitute_vars(f: L.Formula, env: dict[str, L.Term], fresh: Iterator[int]) -> L.Formula:
@@ -277,17 +271,23 @@ def _substitute_vars(f: L.Formula, env: dict[str, L.Term], fresh: Iterator[int])
         return L.Atom(f.predicate, tuple(_term(t, env) for t in f.args))
     if isinstance(f, L.Equals):
         return L.Equals(_term(f.left, env), _term(f.right, env))
-    if isinstance(f, L.Not):
-        return L.Not(_substitute_vars(f.arg, env, fresh))
-    if isinstance(f, (L.And, L.Or)):
-        return type(f)(tuple(_substitute_vars(a, env, fresh) for a in f.args))
-    if isinstance(f, L.Imply):
-        return L.Imply(_substitute_vars(f.left, env, fresh), _substitute_vars(f.right, env, fresh))
     if isinstance(f, (L.Forall, L.Exists)):
         n = next(fresh)
         params = tuple(L.Param(f"{p.name}__d{n}", p.type) for p in f.params)
         inner = {**env, **{p.name: L.Var(q.name) for p, q in zip(f.params, params)}}
         return type(f)(params, _substitute_vars(f.body, inner, fresh))
+    return _map_connective(f, lambda g: _substitute_vars(g, env, fresh))
+
+
+def _map_connective(f: L.Formula, sub: Callable[[L.Formula], L.Formula]) -> L.Formula:
+    """``f`` with ``sub`` applied to the operands of its connective (not, and, or,
+    implies); any other formula as it is."""
+    if isinstance(f, L.Not):
+        return L.Not(sub(f.arg))
+    if isinstance(f, (L.And, L.Or)):
+        return type(f)(tuple(sub(a) for a in f.args))
+    if isinstance(f, L.Imply):
+        return L.Imply(sub(f.left), sub(f.right))
     return f
 
 
