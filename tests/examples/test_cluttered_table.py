@@ -14,9 +14,6 @@ from examples.cluttered_table import scene as ct
 from stampc import refine_policy
 from stampc.diagnostics import StampcError
 from stampc.refine import RefineOptions
-from stampc.refine.replay import replay
-from stampc.worlds.bindings import resolve_model
-from stampc.worlds.loading import open_world
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "cluttered_table"
@@ -28,17 +25,6 @@ def _refine(problem: Path, world: str, seed: int = 0, limit: float = 90.0, domai
     domain = domain or DOMAIN
     return refine_policy([domain, problem], world=world,
                          options=RefineOptions(seed=seed, time_limit=limit))
-
-
-def _replay(policy: dict, world_name: str, runs: int = 20, seed: int = 1):
-    from stampc import load_model
-    model = load_model(policy["files"])
-    world = open_world(world_name, policy["scene"], seed=seed)
-    try:
-        executors = resolve_model(model, world.package).executors
-        return replay(policy, world, executors, runs=runs, seed=seed)
-    finally:
-        world.close()
 
 
 def _learned(policy: dict) -> list[tuple[str, bool]]:
@@ -86,11 +72,11 @@ def test_scenes_keep_every_can_and_are_seeded():
     assert len(ct.build2d(15, 0)["objects"]) == 15
 
 
-def test_pybullet_15_cans_full_coverage_and_replay(pybullet_run):
+def test_pybullet_15_cans_full_coverage_and_replay(pybullet_run, replay_policy):
     run, policy = pybullet_run
     assert run.result.coverage == pytest.approx(1.0)
     assert run.result.goal_probability >= 0.9
-    report = _replay(policy, "pybullet", runs=20, seed=1)
+    report = replay_policy(policy, "pybullet", runs=20, seed=1)
     assert report.count("unrefined") == 0
     assert report.count("failure") == 0, [r.detail for r in report.runs]
     assert report.count("success") == report.on_refined - report.count("dead_end")
@@ -137,14 +123,14 @@ def test_learned_obstructions_are_real_blockers(fixed_run):
     assert root["action"].split("(")[1].split(",")[0] in blockers
 
 
-def test_plane2d_fixed_variant():
+def test_plane2d_fixed_variant(replay_policy):
     run = _refine(EXAMPLE / "problem2d_fixed.stamp", "plane2d", domain=FIXED)
     assert run.result.coverage == pytest.approx(1.0)
     policy = run.to_json()
     named = {f.split("(")[1].split(",")[0] for f, v in _learned(policy)
              if v and f.endswith("t_pick_can0_pose_can0)")}
     assert named and named <= set(policy["scene"]["meta"]["blockers"])
-    report = _replay(policy, "plane2d", runs=20, seed=2)
+    report = replay_policy(policy, "plane2d", runs=20, seed=2)
     assert report.count("failure") == 0 and report.count("unrefined") == 0
 
 
@@ -164,7 +150,7 @@ def _base_sequence_ok(actions: list[str], start: str) -> int:
 
 
 @pytest.mark.parametrize("seed", [0, 1])
-def test_plane2d_mobile_scene(tmp_path, seed):
+def test_plane2d_mobile_scene(tmp_path, seed, replay_policy):
     """The paper's scene on plane2d (domain.stamp). In seed 1 two cans stand between the
     start base and the target: refinement learns those collisions and the policy drives
     to another base (cost 2) rather than clearing them."""
@@ -174,7 +160,7 @@ def test_plane2d_mobile_scene(tmp_path, seed):
     assert run.result.coverage == pytest.approx(1.0)
     policy = run.to_json()
     start, target = policy["scene"]["robot"]["start"], policy["scene"]["meta"]["target"]
-    report = _replay(policy, "plane2d", runs=20, seed=2)
+    report = replay_policy(policy, "plane2d", runs=20, seed=2)
     assert report.count("failure") == 0 and report.count("unrefined") == 0
     assert report.count("success") == 20
     for r in report.runs:

@@ -9,10 +9,7 @@ import pytest
 
 import stampc
 from stampc.refine import RefineOptions
-from stampc.refine.replay import replay
 from stampc.semantics.api import check
-from stampc.worlds.bindings import resolve_model
-from stampc.worlds.loading import load_scene, open_world
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "warehouse"
 FILES = [EXAMPLE / "domain.stamp", EXAMPLE / "problem.stamp"]
@@ -43,12 +40,6 @@ def test_refines_to_full_coverage_around_the_rack(run):
         assert names["slip"] == n["id"] and names["moved"] != n["id"]
 
 
-def test_replays_of_the_refined_policy_deliver(run):
-    model = stampc.load_model(FILES)
-    world = open_world("plane2d", load_scene(model.problem, EXAMPLE), seed=0)
-    try:
-        bindings = resolve_model(model, world.package)
-        report = replay(run.to_json(), world, bindings.executors, runs=30, seed=2)
-    finally:
-        world.close()
+def test_replays_of_the_refined_policy_deliver(run, replay_policy):
+    report = replay_policy(run.to_json(), "plane2d", runs=30, seed=2, world_seed=0)
     assert report.on_refined == 30 and report.count("success") == 30

@@ -11,10 +11,7 @@ import pytest
 
 import stampc
 from stampc.refine import RefineOptions
-from stampc.refine.replay import replay
 from stampc.worlds.base import ConcreteAction, Context, Outcome, accepts_outcome, call_executor
-from stampc.worlds.bindings import resolve_model
-from stampc.worlds.loading import load_scene, open_world
 from stampc.worlds.plane2d import aerial
 from stampc.worlds.plane2d import open_world as open_plane2d
 from stampc.worlds.plane2d.scenes import aircraft
@@ -41,14 +38,8 @@ def test_slip_example_reaches_full_coverage_with_refined_slip_cycles(slip_run):
         assert names["slip"] == n["id"] and names["moved"] != n["id"]
 
 
-def test_every_replay_that_stays_on_refined_branches_succeeds(slip_run):
-    model = stampc.load_model(SLIP)
-    world = open_world("plane2d", load_scene(model.problem, SLIP[-1].parent), seed=0)
-    try:
-        bindings = resolve_model(model, world.package)
-        report = replay(slip_run.to_json(), world, bindings.executors, runs=80, seed=3)
-    finally:
-        world.close()
+def test_every_replay_that_stays_on_refined_branches_succeeds(slip_run, replay_policy):
+    report = replay_policy(slip_run.to_json(), "plane2d", runs=80, seed=3, world_seed=0)
     assert report.on_refined == 80 and report.count("success") == 80
     assert any(len(r.actions) > 6 for r in report.runs)  # some runs slipped and retried
 
