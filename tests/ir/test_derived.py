@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import pytest
 
 import stampc
-from stampc.diagnostics import StampcError
 from stampc.ir import lifted as L
 from stampc.ir.derived import compile_derived
 from stampc.ir.json_io import lifted_from_json, lifted_to_json
