@@ -35,8 +35,6 @@ class Backtracking:
     _bans: dict[tuple[int, int], int]
     _worked: set[int]
     _exhausted: dict[int, set[int]]
-    #: actions banned in every state, oldest first
-    _everywhere: list[int]
     _notes: list[str]
     #: the engine's best-policy bookkeeping (``Engine._track``)
     _track: "Callable[[int, PolicyGraph], None]"
@@ -114,14 +112,14 @@ class Backtracking:
             return
         states = self._exhausted.setdefault(action, set())
         states.add(state)
-        if len(states) >= limit and action not in self._everywhere:
+        if len(states) >= limit and (ANY_STATE, action) not in self.planner.forbidden:
             self.planner.forbidden.add((ANY_STATE, action))
-            self._everywhere.append(action)
             self._notes.append(f"{self.model.actions[action].label}: banned in every state "
                                f"(no usable sample in {len(states)} states, never refined)")
 
-    def _bans_everywhere(self) -> bool:
-        return bool(self._everywhere)
+    def _bans_everywhere(self) -> list[int]:
+        """The actions banned in every state (the planner's ``(ANY_STATE, a)`` pairs)."""
+        return [a for s, a in self.planner.forbidden if s == ANY_STATE]
 
     def _replan_above(self, graph: PolicyGraph, path: tuple[int, ...]) -> tuple[str, str] | None:
         """With actions banned in every state, replan at the nearest of the last
@@ -145,12 +143,12 @@ class Backtracking:
         """Lift every ban in every state (a replan found no way to the goal without the
         banned actions). Each needs as many fresh failures to return. (Lifting only the
         newest and replanning did worse on Keva tower-12 seed 2: 0.107 vs 0.769.)"""
-        for action in self._everywhere:
+        lifted = self._bans_everywhere()
+        for action in lifted:
             self.planner.forbidden.discard((ANY_STATE, action))
             self._exhausted.pop(action, None)
-        self._notes.append(f"{len(self._everywhere)} ban(s) in every state lifted (no way "
-                           "to the goal without them)")
-        self._everywhere.clear()
+        self._notes.append(f"{len(lifted)} ban(s) in every state lifted (no way to the goal "
+                           "without them)")
 
     def _backtrack(self, uid: int | None) -> tuple[str, str]:
         """Iterative broadening: return to the deepest PRG ancestor with spare breadth

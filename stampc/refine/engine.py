@@ -71,7 +71,6 @@ class Engine(Backtracking, Reporting):
         #: actions refined at least once; per action, the states where it was banned
         self._worked: set[int] = set()
         self._exhausted: dict[int, set[int]] = {}
-        self._everywhere: list[int] = []
         self._start = time.perf_counter()
         self._stopped: float | None = None
 

@@ -17,7 +17,7 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.graph import DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph
 from stampc.refine.deadends import DeadEndProver
 from stampc.solvers import Solution, SolverOptions, policy_tree, solve
-from stampc.solvers.space import ANY_STATE
+from stampc.solvers.space import is_forbidden
 
 
 class AbstractPlanner:
@@ -164,8 +164,7 @@ class AbstractPlanner:
     def random_action(self, state: int, rng: random.Random, exclude: int | None) -> int | None:
         """An applicable action other than ``exclude`` (the explore step of Alg. 1)."""
         candidates = [a.index for a in self.model.actions
-                      if a.index != exclude and (state, a.index) not in self.forbidden
-                      and (ANY_STATE, a.index) not in self.forbidden
+                      if a.index != exclude and not is_forbidden(self.forbidden, state, a.index)
                       and a.precondition.holds(state)]
         return rng.choice(candidates) if candidates else None
 

@@ -14,13 +14,18 @@ non-goal node at t = H costs D (failing to reach the goal in time is a give-up).
 from __future__ import annotations
 
 import math
-from typing import Callable, Mapping
+from typing import AbstractSet, Callable, Mapping
 
 from stampc.solvers.heuristics import Heuristic
 from stampc.solvers.successors import SuccessorCache, Transition
 
 #: the state of a ``forbidden`` pair that bans its action in every state
 ANY_STATE = -1
+
+
+def is_forbidden(forbidden: AbstractSet[tuple[int, int]], state: int, action: int) -> bool:
+    """Whether ``action`` is banned in ``state``: there, or in every state."""
+    return (state, action) in forbidden or (ANY_STATE, action) in forbidden
 
 
 class Space:
@@ -115,4 +120,4 @@ class Space:
                      if not self._banned(state, a))
 
     def _banned(self, state: int, action: int) -> bool:
-        return (state, action) in self.forbidden or action in self._forbidden_anywhere
+        return is_forbidden(self.forbidden, state, action)
