@@ -18,9 +18,7 @@ IR; this module builds it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 
-from stampc.ir.grounded import GroundCondition
 
 
 from stampc.ir import lifted as L

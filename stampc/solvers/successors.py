@@ -12,7 +12,7 @@ triggered by its true facts instead of scanning every action.
 
 from __future__ import annotations
 
-from typing import Iterator, Sequence
+from typing import Sequence
 
 from stampc.ir.grounded import bits as iter_bits  # noqa: F401  (re-exported)
 from stampc.ir.grounded import GroundAction, GroundModel
