@@ -80,7 +80,7 @@ def obstruction_profile(n: int, seed: int) -> int:
         best = None
         for name, base in world.candidate_bases().items():
             world.move_base(base, name)
-            for _, q in cluttered._top_grasps(ctx, target, pose):
+            for _, q in cluttered._grasps(ctx, target, pose):
                 hits = len(cluttered.movable_hits(world, q, target))
                 best = hits if best is None else min(best, hits)
         return -1 if best is None else best

@@ -11,34 +11,35 @@ Fixed-base domain (``domain_fixed.stamp``):
 
 Mobile-base domain (``domain.stamp``; the robot stands at one of the scene's named base
 poses, ``b`` arguments are their names):
-- ``.cluttered:grasp_at(b, o, p)``: top grasps at 4 yaws from base ``b``, clear first;
+- ``.cluttered:grasp_at(b, o, p)``: the robot's grasps from base ``b``, clear first: the
+  scene's robot ``grasps`` (top: from above at 4 yaws; side: horizontal approaches
+  from 8 directions, the paper's scenario, where the cans around the target are in
+  the way);
 - ``.cluttered:placement_here(o, s)``: placements within reach of the robot's current
   base, clear first;
 - ``.cluttered:bin_drop(o)``: the config holding ``o`` over the bin the robot carries
   beside its base (:data:`BIN`, in the base frame);
-- ``.cluttered:reaches(b, o, p)`` (evaluator): a top grasp of ``o`` at ``p`` has an IK
-  solution from ``b`` (collisions ignored);
+- ``.cluttered:reaches(b, o, p)`` (evaluator): one of those grasps of ``o`` at ``p`` has
+  an IK solution from ``b`` (collisions ignored);
 - ``.cluttered:move_base`` (executor, arguments ``a``, ``b``): tuck the arm in (rest
   config), then re-place the base at ``b`` (base motions are not collision-checked).
 """
 
 from __future__ import annotations
 
-import math
 import random
 from typing import Iterable, Iterator, TypeVar
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation, robots
-from stampc.worlds.pybullet.kinematics import solve_ik, top_grasp
+from stampc.worlds.pybullet.kinematics import grasps_of_kind, solve_ik, top_grasp
 from stampc.worlds.pybullet.manipulation import _arg, _budget, _check_object, _world
 from stampc.worlds.pybullet.values import Config, Grasp, Pose, as_config, as_pose, interpolate
 from stampc.worlds.pybullet.world import PyBulletWorld
 
 T = TypeVar("T", bound=tuple)
 APPROACH_STEP = 0.05  # rad between checked configs of the straight approach
-TOP_YAWS = tuple(k * math.pi / 4 for k in range(4))  # 4 distinct closing directions
 REACH = 0.8  # m: the Panda's top-grasp reach over a table at base height (measured)
 #: the bin the robot carries: where the held can is let go, in the base frame (m)
 BIN = (-0.15, 0.45, 0.35)
@@ -121,13 +122,14 @@ def _at_base(ctx: Context, b: str) -> PyBulletWorld | None:
     return world if world.state.arm is not None and world.state.arm.base_name == b else None
 
 
-def _top_grasps(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:
+def _grasps(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:
+    """The robot's grasps of its kind (scene ``grasps``) with a config from where it
+    stands, in a seeded random order."""
     world = _world(ctx)
     robot, base = manipulation._owner(world)
-    yaws = list(TOP_YAWS)
-    ctx.rng.shuffle(yaws)
-    for yaw in yaws:
-        g = top_grasp(world.geometry[o], yaw)
+    grasps = grasps_of_kind(world.geometry[o], world.grasp_kinds())
+    ctx.rng.shuffle(grasps)
+    for g in grasps:
         config = manipulation._grasp_config(world, ctx, o, p, g)
         world.set_arm(world.state.q)
         if config is not None:
@@ -135,13 +137,13 @@ def _top_grasps(ctx: Context, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]
 
 
 def grasp_at(ctx: Context, b: str, o: str, p: Pose) -> Iterator[tuple[Grasp, Config]]:
-    """Top grasps (4 yaws) of ``o`` at ``p`` from base ``b``, clear of other cans first;
+    """The robot's grasps of ``o`` at ``p`` from base ``b``, clear of other cans first;
     nothing unless the robot stands at ``b``."""
     world = _at_base(ctx, b)
     _check_object(_world(ctx), o)
     if world is None:
         return iter(())
-    return _clear_first(ctx, _top_grasps(ctx, o, as_pose(p)), 1, o)
+    return _clear_first(ctx, _grasps(ctx, o, as_pose(p)), 1, o)
 
 
 def placement_here(ctx: Context, o: str, s: str) -> Iterator[tuple[Pose, Config]]:
@@ -171,7 +173,7 @@ def bin_drop(ctx: Context, o: str) -> Iterator[tuple[Config]]:
 
 
 def reaches(ctx: Context, b: str, o: str, p: Pose) -> bool:
-    """Whether a top grasp of ``o`` at ``p`` has an IK solution from base ``b``."""
+    """Whether one of the robot's grasps of ``o`` at ``p`` has IK from base ``b``."""
     world = _world(ctx)
     _check_object(world, o)
     bases = world.candidate_bases()

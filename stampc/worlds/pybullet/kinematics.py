@@ -126,3 +126,18 @@ def grasp_candidates(geom: Geometry, rng: random.Random, kinds: str = "any") -> 
         rng.shuffle(sides)
         out += [side_grasp(geom, a) for a in sides]
     return out
+
+
+TOP_YAWS = tuple(k * math.pi / 4 for k in range(4))  # 4 distinct closing directions
+SIDE_ANGLES = tuple(k * math.pi / 4 for k in range(8))  # 8 approach directions
+
+
+def grasps_of_kind(geom: Geometry, kinds: str) -> list[Grasp]:
+    """A robot's grasp set by kind (its scene entry's ``grasps``): ``top``: from above at
+    4 yaws; ``side``: horizontal approaches from 8 directions; ``any``: both, top first."""
+    out: list[Grasp] = []
+    if kinds in ("top", "any"):
+        out += [top_grasp(geom, yaw) for yaw in TOP_YAWS]
+    if kinds in ("side", "any"):
+        out += [side_grasp(geom, a) for a in SIDE_ANGLES if fits(geom, a)]
+    return out

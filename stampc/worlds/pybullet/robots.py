@@ -21,13 +21,12 @@ from typing import Iterator
 
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation
-from stampc.worlds.pybullet.kinematics import IkSettings, solve_ik, top_grasp
+from stampc.worlds.pybullet.kinematics import IkSettings, grasps_of_kind, solve_ik
 from stampc.worlds.pybullet.values import Base, Config, Grasp, Pose, as_base, as_pose
 from stampc.worlds.pybullet.world import PyBulletWorld
 
 #: horizontal distance (m) beyond which a base cannot reach an object (Panda: 0.855 m)
 MAX_REACH = 0.9
-REACH_YAWS = 4  # top-grasp yaws tried when checking that a base reaches an object
 REACH_IK = IkSettings(restarts=2)
 
 
@@ -40,8 +39,9 @@ def placement(ctx: Context, r: str, o: str, s: str) -> Iterator[tuple[Pose, Conf
 
 
 def reaches(world: PyBulletWorld, ctx: Context, o: str, p: Pose, base: Pose) -> bool:
-    """Whether the active robot standing at ``base`` has an IK solution for a top grasp
-    of ``o`` at ``p`` (collisions ignored); the world's state is left as it was."""
+    """Whether the active robot standing at ``base`` has an IK solution for one of its
+    grasps of ``o`` at ``p`` (its scene's grasp kinds; collisions ignored); the world's
+    state is left as it was."""
     if math.dist(base.pos[:2], p.pos[:2]) > MAX_REACH:
         return False
     key = ("base-reaches", world.active_arm.name if world.active_arm else None, base, o, p)
@@ -50,10 +50,9 @@ def reaches(world: PyBulletWorld, ctx: Context, o: str, p: Pose, base: Pose) -> 
     saved = world.snapshot()
     try:
         world.update(base=base)
-        geom = world.geometry[o]
-        ok = any(solve_ik(world, p.multiply(top_grasp(geom, 2 * math.pi * k / REACH_YAWS).hand),
-                          ctx.rng, settings=REACH_IK) is not None
-                 for k in range(REACH_YAWS))
+        grasps = grasps_of_kind(world.geometry[o], world.grasp_kinds())
+        ok = any(solve_ik(world, p.multiply(g.hand), ctx.rng, settings=REACH_IK) is not None
+                 for g in grasps)
     finally:
         world.restore(saved)
     ctx.cache[key] = ok

@@ -6,7 +6,7 @@ A scene is a plain dict (see ``docs/worlds-pybullet.md``)::
      # or several, each optionally a mobile base with named candidate base poses:
      # "robots": [{"name": "left", "model": "panda", "base": [...], "yaw": 0,
      #             "bases": [{"name": "north", "base": [x, y, 0], "yaw": 0}, ...],
-     #             "start": "north"}],
+     #             "start": "north", "grasps": "side"}],   # grasps: top (default) / side / any
      "surfaces": [{"name": "table", "size": [sx, sy, sz], "position": [x, y, z]}],
      "objects": [{"name": "can0", "shape": "cylinder", "radius": 0.03, "height": 0.15,
                   "position": [x, y, z], "yaw": 0, "mass": 0.1, "color": [r, g, b, a]},
@@ -48,6 +48,9 @@ class RobotModel:
     #: the end-effector frame's z axis is the approach direction, y the closing direction
     self_collision: bool = True
 
+
+#: the grasp kinds a robot entry may name (``"grasps"``)
+GRASP_KINDS = ("top", "side", "any")
 
 #: The robot-model table (read-only); add an entry to support another arm.
 ROBOT_MODELS: Mapping[str, RobotModel] = MappingProxyType({
@@ -91,6 +94,8 @@ class RobotSpec:
     bases: tuple[BaseSpec, ...] = ()
     #: the candidate base the robot starts at (None: its ``base``/``yaw`` fields)
     start: str | None = None
+    #: the grasps its grasp generators and reach checks use: "top", "side" or "any"
+    grasps: str = "top"
 
 
 @dataclass(frozen=True)
@@ -226,9 +231,14 @@ def _robot(c: _Checker, raw: Any, where: int, seen: set[str],
     first = next((b for b in bases if b.name == start), None)
     base = first.base if first else c.vec(raw, "base", 3, where, default=(0.0, 0.0, 0.0))
     yaw = first.yaw if first else c.num(raw, "yaw", where, default=0.0)
+    grasps = raw.get("grasps", "top")
+    if grasps not in GRASP_KINDS:
+        c.fail(where, f"robot grasps {grasps!r} is not a grasp kind",
+               f"one of: {', '.join(GRASP_KINDS)}")
+        return None
     if name is None or base is None or yaw is None:
         return None
-    return RobotSpec(model, base, yaw, name, bases, start)  # type: ignore[arg-type]
+    return RobotSpec(model, base, yaw, name, bases, start, grasps)  # type: ignore[arg-type]
 
 
 def _bases(c: _Checker, raw: Any, where: int, seen: set[str]) -> tuple[BaseSpec, ...] | None:

@@ -178,7 +178,8 @@ def table_bases(size: tuple[float, float]) -> list[dict]:
 
 def cluttered_table_random(n_cans: int, seed: int, *, table: str = "auto",
                            radius: float = 0.03, height: float = 0.2, gap: float = 0.005,
-                           tries: int = 50, robot: str = "panda") -> dict:
+                           tries: int = 50, robot: str = "panda",
+                           grasps: str = "side") -> dict:
     """The paper's cluttered table: ``n_cans`` cans (radius 0.03 m, height 0.2 m)
     uniformly at random on the table top, up to ``tries`` rejections each for overlaps
     (a can that finds no room is left out: ``meta.dropped``), and a target drawn
@@ -187,6 +188,10 @@ def cluttered_table_random(n_cans: int, seed: int, *, table: str = "auto",
     ``table``: ``"small"`` (0.90 × 0.90 m), ``"large"`` (2.235 × 0.94 m) or ``"auto"``
     (large from 30 cans). The robot (named ``robot``) has the candidate base poses of
     :func:`table_bases` (``b0..``) and starts at one drawn from the seed.
+
+    ``grasps``: the robot's grasp kind (``side`` by default: the paper's Fetch took the
+    cans from the side, so the cans between it and the target are in the way; with
+    equal-height cans, top grasps are almost never obstructed: docs/benchmarks.md).
     """
     rng = random.Random(f"cluttered-random:{n_cans}:{seed}")
     size = LARGE_TABLE if table == "large" or (table == "auto" and n_cans >= 30) else SMALL_TABLE
@@ -212,7 +217,7 @@ def cluttered_table_random(n_cans: int, seed: int, *, table: str = "auto",
             o["color"] = [0.95, 0.95, 0.95, 1.0]
     bases = table_bases(size)
     return {
-        "robot": {"name": "robot", "model": robot, "bases": bases,
+        "robot": {"name": "robot", "model": robot, "bases": bases, "grasps": grasps,
                   "start": bases[rng.randrange(len(bases))]["name"]},
         "surfaces": [top],
         "objects": objects,

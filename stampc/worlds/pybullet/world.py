@@ -132,6 +132,12 @@ class PyBulletWorld:
         assert arm is not None
         return {b.name: Pose.of(b.base, quat_from_yaw(b.yaw)) for b in arm.spec.bases}
 
+    def grasp_kinds(self, name: str | None = None) -> str:
+        """Robot ``name``'s grasp kinds (its scene entry's ``grasps``: top / side / any)."""
+        arm = self.active_arm if name is None else self.arms[name]
+        assert arm is not None
+        return arm.spec.grasps
+
     def _register(self, name: str, body: int) -> int:
         self.body[name] = body
         self.name_of[body] = name
