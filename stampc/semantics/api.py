@@ -64,21 +64,6 @@ def load(path: PathOrText) -> LoadedProgram:
     return loaded
 
 
-def load_together(paths: Sequence[PathOrText]) -> LoadedProgram:
-    """Load files that belong together (typically a domain file and a problem file).
-
-    Returns the program holding the problem (or the first one if there is no problem);
-    raises :class:`StampcError` with every diagnostic when any file has an error.
-    """
-    programs = analyze([_as_source(p) for p in paths])
-    diags = unique_sorted([d for p in programs for d in p.diagnostics])
-    if has_errors(diags):
-        raise StampcError(diags)
-    with_problem = [p for p in programs if p.problem is not None]
-    chosen = with_problem[0] if with_problem else programs[0]
-    return LoadedProgram(chosen.domain, chosen.problem, chosen.productions, tuple(diags), chosen.sources)
-
-
 def check(*paths_or_texts: PathOrText) -> list[Diagnostic]:
     """Check files (``Path`` or a string naming an existing ``.stamp`` file) or source
     texts together: a problem is checked against a domain given alongside it."""
@@ -186,8 +171,11 @@ def _check_group(resolver: Resolver, dom_source: Source, dom_sec, prob_source: S
 
 
 def load_together(paths: Sequence[PathOrText]) -> LoadedProgram:
-    """Load a domain file and a problem file (or one file holding both) as one program;
-    raises :class:`StampcError` when there is any error."""
+    """Load a domain file and a problem file (or one file holding both) as one program.
+
+    Returns the program holding the problem (or the first one if there is no problem),
+    with that program's own diagnostics; raises :class:`StampcError` carrying the errors
+    of every file when any file has an error."""
     programs = analyze([_as_source(p) for p in paths])
     with_problem = [p for p in programs if p.problem is not None]
     loaded = (with_problem or programs)[0]
