@@ -161,8 +161,8 @@ def report(logs: list[Path]) -> int:
             line = _outside(instance, res, ref)
             if line:
                 outside.append(line)
-    print(f"| domain | instances | run | certified by us | C++ | both | ours s (both) "
-          f"| C++ s (both) | ratio |\n|---|---|---|---|---|---|---|---|---|")
+    print("| domain | instances | run | certified by us | C++ | both | ours s (both) "
+          "| C++ s (both) | ratio |\n|---|---|---|---|---|---|---|---|---|")
     for name, (n, run, o, c, b, mine, theirs) in sorted(by_domain.items()):
         ratio = f"{mine / theirs:.2f}" if theirs else "-"
         print(f"| {name} | {n} | {run} | {o} | {c} | {b} | {mine:.2f} | {theirs:.2f} | {ratio} |")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from stampc.commands.common import EXIT_DONE, EXIT_INPUT, read_input, reports_errors

@@ -19,7 +19,7 @@ class _Checker:
     def __init__(self, model: L.Model):
         self.model = model
         self.diags: list[Diagnostic] = []
-        domain, problem = model.domain, model.problem
+        domain = model.domain
         self.types = {ROOT_TYPE} | {t.name for t in domain.types}
         self.predicates = {p.name: p for p in domain.predicates}
         self.functions = {f.name: f for f in domain.functions}

@@ -53,13 +53,13 @@ def compare_state(model: L.Model, gm: GroundModel, ref: Reference, state: int,
     by_key = {(a.schema, a.args): a for a in gm.actions}
     applicable = []
     assert gm.is_goal(state) == ref.holds(model.problem.goal, {}, atoms)
-    for schema, action in enumerate(model.domain.actions):
-        for args in product(*(ref.of_type(p.type) for p in action.params)):
-            env = dict(zip((p.name for p in action.params), args))
-            lifted_ok = ref.holds(action.precondition, env, atoms)
+    for schema, schema_action in enumerate(model.domain.actions):
+        for args in product(*(ref.of_type(p.type) for p in schema_action.params)):
+            env = dict(zip((p.name for p in schema_action.params), args))
+            lifted_ok = ref.holds(schema_action.precondition, env, atoms)
             ground_action = by_key.get((schema, args))
             ground_ok = ground_action is not None and ground_action.precondition.holds(state)
-            assert lifted_ok == ground_ok, (action.name, args)
+            assert lifted_ok == ground_ok, (schema_action.name, args)
             if ground_ok:
                 applicable.append(ground_action)
     for a in rng.sample(applicable, min(len(applicable), 12)):

@@ -105,7 +105,7 @@ def test_a_policy_node_the_report_cannot_read_is_i004(shelf_run, tmp_path, capsy
     (run / "policy.json").write_text(json.dumps(policy))
     assert main(["view", str(run)]) == 1
     err = capsys.readouterr().err
-    assert "policy.json:1:1: I004" in err and f"`nodes[1]`" in err and f"`{field}`" in err
+    assert "policy.json:1:1: I004" in err and "`nodes[1]`" in err and f"`{field}`" in err
 
 
 def test_a_folder_without_policy_is_i004(tmp_path, capsys):
