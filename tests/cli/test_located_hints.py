@@ -46,18 +46,18 @@ def test_s201_points_at_the_line_of_the_section_in_the_scene_file(tmp_path):
 
 
 def test_s201_from_a_builder_points_at_the_scene_builder_line(tmp_path):
-    (tmp_path / "badscene.py").write_text(
+    (tmp_path / "unreachable_scene.py").write_text(
         "from stampc.worlds.plane2d.scenes import cluttered\n"
         "def build():\n"
         "    scene = cluttered(n=5, seed=2, blockers=2, shelf=True)\n"
         "    scene['robot']['reach'] = 0\n"
         "    return scene\n", encoding="utf-8")
-    files = _write(tmp_path, SHELF_DOMAIN, 'scene builder "badscene:build"()')
+    files = _write(tmp_path, SHELF_DOMAIN, 'scene builder "unreachable_scene:build"()')
     diags = _diagnostics(files)
     assert {d.code for d in diags} == {"S201"}
     for d in diags:
         assert d.span.file.endswith("problem.stamp") and d.span.line == BUILDER_LINE
-        assert "scene built by badscene:build" in d.message
+        assert "scene built by unreachable_scene:build" in d.message
 
 
 def test_s274_hint_names_the_stamp_parameter_and_the_executor_argument(tmp_path):

@@ -84,8 +84,10 @@ def test_signature_mismatch_is_found_before_planning(probe):
 
 
 def test_failing_scene_builder_is_located_in_the_problem(probe, tmp_path):
-    (tmp_path / "badscene.py").write_text("def build(**kw):\n    return 1 / 0\n")
-    assert codes_of(probe("fine", builder="badscene:build")) == [("S105", 4)]
+    # a module name no other test writes: `probe` puts tmp_path on sys.path, so the import
+    # stays in sys.modules for the rest of the session
+    (tmp_path / "dividing_builder.py").write_text("def build(**kw):\n    return 1 / 0\n")
+    assert codes_of(probe("fine", builder="dividing_builder:build")) == [("S105", 4)]
 
 
 def test_cli_prints_the_diagnostic_and_exits_1(probe, capsys):
