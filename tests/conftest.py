@@ -12,10 +12,11 @@ BENCHMARKS = (REPO.parent / "shared" / "benchmarks" / "ppddl").resolve()
 
 
 def _replay_policy(policy: dict, world_name: str, *, runs: int, seed: int,
-                   world_seed: int | None = None):
+                   world_seed: int | None = None, on_step=None):
     """Replay ``policy`` (``RefinedPolicy.to_json()``) ``runs`` times in a new
     ``world_name`` world built from its own files and scene (``world_seed``: default
-    ``seed``), closing the world afterwards; the ``ReplayReport``."""
+    ``seed``; ``on_step`` as in ``replay``), closing the world afterwards; the
+    ``ReplayReport``."""
     import stampc
     from stampc.refine.replay import replay
     from stampc.worlds.bindings import resolve_model
@@ -25,14 +26,14 @@ def _replay_policy(policy: dict, world_name: str, *, runs: int, seed: int,
     world = open_world(world_name, policy["scene"], seed=seed if world_seed is None else world_seed)
     try:
         executors = resolve_model(model, world.package).executors
-        return replay(policy, world, executors, runs=runs, seed=seed)
+        return replay(policy, world, executors, runs=runs, seed=seed, on_step=on_step)
     finally:
         world.close()
 
 
 @pytest.fixture(scope="session")
 def replay_policy():
-    """``replay_policy(policy, world_name, runs=, seed=, world_seed=None)``."""
+    """``replay_policy(policy, world_name, runs=, seed=, world_seed=None, on_step=None)``."""
     return _replay_policy
 
 

@@ -15,10 +15,7 @@ import stampc
 from examples.aircraft_inspection import scene as aircraft_scene
 from stampc.diagnostics import StampcError
 from stampc.refine import RefineOptions
-from stampc.refine.replay import replay
 from stampc.worlds.base import ConcreteAction, Context
-from stampc.worlds.bindings import resolve_model
-from stampc.worlds.loading import load_scene, open_world
 from stampc.worlds.pybullet import aerial, aircraft
 from stampc.worlds.pybullet import open_world as open_pybullet
 
@@ -63,10 +60,7 @@ def test_battery_is_learned_and_the_uav_recharges_first(run):
     assert any(n.get("action_name") == "charge" and n["refined"] for n in policy["nodes"])
 
 
-def test_every_replayed_run_on_refined_branches_succeeds(run):
-    model = stampc.load_model(FILES)
-    world = open_world("pybullet", load_scene(model.problem, EXAMPLE), seed=0)
-    bindings = resolve_model(model, world.package)
+def test_every_replayed_run_on_refined_branches_succeeds(run, replay_policy):
     batteries: list[float] = []
 
     def on_step(_run: int, _step: int, w) -> None:
@@ -74,11 +68,8 @@ def test_every_replayed_run_on_refined_branches_succeeds(run):
         assert aerial.uav_free(w, pose.pos + pose.quat)  # never inside a body
         batteries.append(w.state.battery)
 
-    try:
-        report = replay(run.to_json(), world, bindings.executors, runs=40, seed=3,
-                        on_step=on_step)
-    finally:
-        world.close()
+    report = replay_policy(run.to_json(), "pybullet", runs=40, seed=3, world_seed=0,
+                           on_step=on_step)
     assert report.count("failure") == 0 and report.count("unrefined") <= 10
     assert report.count("success") + report.count("dead_end") >= 30
     assert min(batteries) > 0.0  # approved legs never empty the battery

@@ -10,7 +10,6 @@ import pytest
 
 import stampc
 from stampc.refine import Engine, RefineOptions, run_refinement
-from stampc.refine.replay import replay
 from stampc.worlds.bindings import resolve_model
 from stampc.worlds.loading import load_scene, open_world
 
@@ -49,12 +48,8 @@ def test_obstructions_are_learned_and_policy_is_fully_refined(shelf_run):
     assert result.abstract_solves >= 2          # replanned after learning
 
 
-def test_refined_policy_reaches_goal_in_every_sampled_run(shelf_run):
-    model, world, bindings = open_for(SHELF)
-    try:
-        report = replay(shelf_run.to_json(), world, bindings.executors, runs=60, seed=5)
-    finally:
-        world.close()
+def test_refined_policy_reaches_goal_in_every_sampled_run(shelf_run, replay_policy):
+    report = replay_policy(shelf_run.to_json(), "plane2d", runs=60, seed=5, world_seed=0)
     assert report.count("unrefined") == 0
     assert report.count("success") == 60
     assert any(len(r.actions) > 1 for r in report.runs)   # blockers were moved first
@@ -66,7 +61,7 @@ def test_same_seed_gives_identical_policy_json():
     assert json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
 
 
-def test_iteration_limit_returns_a_valid_partial_policy():
+def test_iteration_limit_returns_a_valid_partial_policy(replay_policy):
     run = refine(SHELF, seed=1, max_iterations=2, time_limit=60)
     assert run.result.stop_reason == "iteration limit"
     assert 0.0 <= run.result.coverage < 1.0
@@ -76,11 +71,7 @@ def test_iteration_limit_returns_a_valid_partial_policy():
     for node in policy["nodes"]:
         for outcome in node.get("outcomes", ()):
             assert outcome["child"] in ids
-    model, world, bindings = open_for(SHELF)
-    try:
-        report = replay(policy, world, bindings.executors, runs=30, seed=2)
-    finally:
-        world.close()
+    report = replay_policy(policy, "plane2d", runs=30, seed=2, world_seed=0)
     assert report.count("failure") == 0        # partial, but never wrong
     assert report.count("unrefined") > 0
 
