@@ -1,10 +1,14 @@
 """The flagship demo: a mobile Panda picks a target can off a cluttered table (PyBullet +
 OMPL): the paper's scene, cans at random, the robot choosing among base poses around it.
 
-    python examples/demo.py                 # 15 cans, seed 0, outputs in out/demo
+    python examples/demo.py                 # 15 cans, seed 0, outputs in ./out/demo
     python examples/demo.py --n 20 --seed 3 --variant high --out /tmp/demo
 
-Three steps, each a `stampc` command (run from the repository root):
+Outputs go to ``--out`` (default ``out/demo``) relative to the current directory, wherever
+the demo is run from; it prints that folder first and every output at the end.
+
+The steps, each a `stampc` command (run with the repository root as working directory,
+so the stamp files read as in the README):
 1. compile the domain and problem to the JSON IR and PPDDL (`stampc compile`);
 2. refine the abstract policy with concrete grasps and motions, anytime, showing a live
    coverage bar on a terminal (`stampc refine --world pybullet`);
@@ -46,13 +50,15 @@ def main(argv: list[str] | None = None) -> int:
                         help="crush probability of delicate cans: 0.1 / 0.5 / 0.9")
     parser.add_argument("--time-limit", type=float, default=180.0)
     parser.add_argument("--runs", type=int, default=20)
-    parser.add_argument("--out", default="out/demo", help="output folder (default out/demo)")
+    parser.add_argument("--out", default="out/demo",
+                        help="output folder, relative to the current directory (default out/demo)")
     args = parser.parse_args(argv)
 
     sys.path.insert(0, str(ROOT))
     from examples.cluttered_table.scene import write_problem
 
-    out = (ROOT / args.out).resolve() if not Path(args.out).is_absolute() else Path(args.out)
+    out = Path(args.out).resolve()  # before the steps run with the repository as cwd
+    print(f"outputs go to {out}", flush=True)
     default = (args.n, args.seed, args.variant) == (15, 0, "mid")
     problem = (EXAMPLE / "problem.stamp" if default else
                write_problem(out / f"problem_n{args.n}_s{args.seed}_{args.variant}.stamp",
