@@ -26,7 +26,8 @@ from typing import Any, Callable, Mapping
 
 from stampc.execute.memo import StepMemo, StepResult
 from stampc.execute.truth import TrueOutcome, TruthModel, planned_key
-from stampc.refine.replay import DEAD_END, FAILURE, SUCCESS, UNREFINED, _decoded, concrete_action
+from stampc.refine.replay import (DEAD_END, FAILURE, SUCCESS, UNREFINED, concrete_action,
+                                  decode_policy)
 from stampc.refine.concretize import outcome_of
 from stampc.worlds.base import Context, call_executor
 
@@ -76,9 +77,7 @@ def execute_policy(policy: Mapping, world: Any, executors: Mapping[str, Callable
     """``runs`` seeded runs; with ``memo``, steps and goal checks already computed from
     the same state are replayed from it — except in the first ``fresh_runs`` runs,
     which compute (and store) every step, e.g. for the recorder's frames."""
-    nodes = {n["id"]: n for n in policy["nodes"]}
-    sigmas = {n["id"]: _decoded(world, n["sigma"]) for n in policy["nodes"] if "sigma" in n}
-    start_env = _decoded(world, policy.get("initial_values", {}))
+    decoded = decode_policy(policy, world)
     initial = world.snapshot()
     rng = random.Random(seed)
     out = []
@@ -86,8 +85,8 @@ def execute_policy(policy: Mapping, world: Any, executors: Mapping[str, Callable
         world.restore(initial)
         if hooks.on_run_start is not None:
             hooks.on_run_start(run)
-        loop = _RunLoop(nodes, sigmas, dict(start_env), world, executors, truth, hooks,
-                        random.Random(rng.random()), run, seed)
+        loop = _RunLoop(decoded.nodes, decoded.sigmas, dict(decoded.initial_env), world,
+                        executors, truth, hooks, random.Random(rng.random()), run, seed)
         loop.memo, loop.replay = memo, run >= fresh_runs
         out.append(loop.go(policy["root"], max_steps))
     world.restore(initial)

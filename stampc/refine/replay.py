@@ -59,6 +59,23 @@ def _decoded(world: Any, values: Mapping[str, Any]) -> dict[str, Any]:
     return {name: _decode(world, data) for name, data in values.items()}
 
 
+@dataclass(frozen=True)
+class DecodedPolicy:
+    """A policy's nodes by id and its bound values decoded for one world (shared by
+    :func:`replay` and :func:`stampc.execute.runner.execute_policy`)."""
+
+    nodes: Mapping[int, Mapping]
+    sigmas: Mapping[int, Mapping[str, Any]]  # node id -> the values it binds
+    initial_env: Mapping[str, Any]           # the values bound before the root
+
+
+def decode_policy(policy: Mapping, world: Any) -> DecodedPolicy:
+    return DecodedPolicy(
+        nodes={n["id"]: n for n in policy["nodes"]},
+        sigmas={n["id"]: _decoded(world, n["sigma"]) for n in policy["nodes"] if "sigma" in n},
+        initial_env=_decoded(world, policy.get("initial_values", {})))
+
+
 def concrete_action(node: Mapping, outcome_index: int, env: Mapping[str, Any]) -> ConcreteAction:
     """The node's action with its symbols replaced by their values in ``env``."""
     def value(name: str) -> Any:
@@ -81,16 +98,14 @@ def replay(policy: Mapping, world: Any, executors: Mapping[str, Callable], *, ru
            on_step: Callable[[int, int, Any], None] | None = None) -> ReplayReport:
     """Run the policy ``runs`` times; ``on_step(run, step, world)`` is called after
     each executed action (e.g. to render frames)."""
-    nodes = {n["id"]: n for n in policy["nodes"]}
-    sigmas = {n["id"]: _decoded(world, n["sigma"]) for n in policy["nodes"] if "sigma" in n}
-    start_env = _decoded(world, policy.get("initial_values", {}))
+    decoded = decode_policy(policy, world)
     initial = world.snapshot()
     rng = random.Random(seed)
     records = []
     for run in range(runs):
         world.restore(initial)
-        records.append(_one_run(nodes, sigmas, dict(start_env), policy["root"], world,
-                                executors, rng, run, max_steps, on_step))
+        records.append(_one_run(decoded.nodes, decoded.sigmas, dict(decoded.initial_env),
+                                policy["root"], world, executors, rng, run, max_steps, on_step))
     world.restore(initial)
     return ReplayReport(tuple(records))
 
