@@ -71,7 +71,8 @@ class RunRecord:
     engine_s: float = 0.0  # the engine's wall time (summary.json)
     time_to: dict[str, float | None] = field(default_factory=dict)  # engine time
     #: work done: learned facts, UpdateAbstraction rounds, abstract solves, PRG nodes,
-    #: refined nodes, motion-planner calls, collision checks, policy branches (leaves)
+    #: refined nodes, motion-planner calls, collision checks, policy branches (leaves),
+    #: ground actions and facts of the abstract model
     work: dict[str, int] = field(default_factory=dict)
     given_up: float | None = None  # goal mass given up (None: the engine has no split)
     instance: str = ""
@@ -146,7 +147,9 @@ def work_counts(result: Path, stats: dict) -> dict[str, int]:
             "prg": int(summary.get("prg_nodes", 0)),
             "refined": int(summary.get("refined_nodes", 0)),
             "planner": int(stats.get("planner_calls", 0)),
-            "checks": int(stats.get("collision_checks", 0)), "branches": branches}
+            "checks": int(stats.get("collision_checks", 0)), "branches": branches,
+            "ground_actions": int(stats.get("ground_actions", 0)),
+            "ground_facts": int(stats.get("ground_facts", 0))}
 
 
 def run_job(job: Job) -> RunRecord:

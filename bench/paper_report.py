@@ -13,7 +13,8 @@ ANYTIME_MIN_S = 10.0  # classes whose median run takes this long get the anytime
 WORK = (("learned", "facts learned"), ("updates", "UpdateAbstraction"),
         ("solves", "abstract solves"), ("prg", "PRG nodes"), ("refined", "refined nodes"),
         ("planner", "planner calls"), ("checks", "collision checks"),
-        ("branches", "policy branches"))
+        ("branches", "policy branches"), ("ground_actions", "ground actions"),
+        ("ground_facts", "ground facts"))
 
 
 def _median(values: Sequence[float]) -> float | None:

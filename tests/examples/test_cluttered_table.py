@@ -102,6 +102,34 @@ def test_picks_plan_from_the_base_they_name(pybullet_run):
     assert checked
 
 
+def test_obstructed_target_cleared_and_executed_by_the_world(tmp_path):
+    """Cluttered-25 seed 0: the target's side grasps are obstructed from every base the
+    robot tries, so refinement learns blockers, and the policy moves one out of the way
+    (placing it back on the table, or discarding it when crushed) before the pick.
+    ``stampc execute`` then samples outcomes from the world, re-sweeps every trajectory
+    at 10x resolution against the objects' actual poses and checks that the target is
+    lifted: a place that left its can in the next pick's path was caught this way."""
+    from stampc.execute.session import execute_file
+
+    problem = ct.write_problem(tmp_path / "p25.stamp", 25, 0)
+    run = _refine(problem, "pybullet")
+    assert run.result.coverage == pytest.approx(1.0)
+    policy = run.to_json()
+    learned = [fact for fact, value in _learned(policy) if value]
+    target = policy["scene"]["meta"]["target"]
+    blockers = {f.split("(")[1].split(",")[0] for f in learned
+                if f.startswith("collision(") and f"t_pick_{target}_" in f}
+    assert blockers, "seed 0's target is obstructed: refinement must learn a blocker"
+    moved = [n for n in policy["nodes"] if n.get("action_name") in ("place", "discard")]
+    assert moved and {n["args"]["o"] for n in moved} <= blockers
+    path = tmp_path / "policy.json"
+    path.write_text(json.dumps(policy))
+    report = execute_file(path, runs=20, seed=1)
+    assert report.collisions == 0
+    assert report.goal_failures == 0
+    assert report.count("success") == 20
+
+
 @pytest.fixture(scope="module")
 def fixed_run():
     problem = EXAMPLE / "problem_fixed.stamp"

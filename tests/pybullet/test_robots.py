@@ -68,6 +68,7 @@ def test_old_robot_key_is_one_robot_named_robot():
     ({"robots": [{"start": "nowhere", "bases": [{"name": "n", "base": [0, 0, 0]}]}]},
      "start 'nowhere'"),
     ({"robots": {"name": "x"}}, "must be a list"),
+    ({"robot": {"grasps": "pinch"}}, "grasps 'pinch' is not a grasp kind"),
 ])
 def test_bad_robot_entries_are_diagnostics(scene, fragment):
     with pytest.raises(StampcError) as exc:

@@ -8,6 +8,7 @@ the bodies at the world's current concrete state when it returns or yields.
 from __future__ import annotations
 
 import math
+import random
 from dataclasses import replace
 from typing import Iterator
 
@@ -24,6 +25,7 @@ from stampc.worlds.pybullet.world import PyBulletWorld
 PLACE_CLEARANCE = 0.002  # m above the surface, so a placed object does not penetrate it
 PLACE_SPACING = 0.01  # m between footprints of placed and present objects
 PLACE_MARGIN = 0.02  # m between a footprint and the surface edge
+LIFT_HEIGHT = 0.05  # m the hand rises after closing on an object it took from the side
 
 
 def _world(ctx: Context, robot: str | None = None) -> PyBulletWorld:
@@ -224,16 +226,19 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
 # ------------------------------------------------------------------ evaluators
 def blocking_objects(ctx: Context, t: Traj) -> frozenset[str]:
     """Movable objects the trajectory (robot and held object) hits, computed once per
-    trajectory and state at fine resolution."""
+    trajectory and state at fine resolution. The task's own contacts are not hits only
+    where :func:`~.planning.bad_bodies` says so (the object just let go, during the
+    retreat; the target, during the approach): elsewhere on the path they are real
+    collisions — a place's object left right in the way of the next pick's path is one,
+    and ``stampc execute``'s re-check counts it."""
     t = as_traj(t)
     world = _world(ctx, t.robot)
     key = ("sweep", t)
     if key not in ctx.cache:
         hit = sweep(world, t)
         world.set_arm(world.state.q)
-        exclude = {t.held, t.target, t.released}
         ctx.cache[key] = frozenset(n for n in world.names(hit & world.movable_ids)
-                                   if n not in exclude)
+                                   if n != t.held)
     return ctx.cache[key]
 
 
@@ -286,9 +291,29 @@ def pick(ctx: Context, action: ConcreteAction) -> None:
     world.update(q=q.q, retreat=None, released=None)
     if _adds(action, "holding", o) and world.present(o):
         grip = world.ee_pose().inverse().multiply(world.object_pose(o))
-        world.update(held=o, grip=grip, retreat=q.pre)
+        world.update(held=o, grip=grip, retreat=_lift(world, q))
     else:  # e.g. a slip: the hand backs off from the untouched object
         world.update(retreat=q.pre, released=o)
+
+
+def _lift(world: PyBulletWorld, q: Config) -> tuple[float, ...] | None:
+    """Where the hand backs off to with the object it closed on: the pre-grasp config when
+    that lies above the grasp (top grasps), else the hand raised by :data:`LIFT_HEIGHT`
+    (side grasps: backing off sideways would drag the object along its support). The IK
+    starts from the grasp config with no random restarts, so the lift is deterministic and
+    a short straight stretch; without a solution the pre-grasp is kept."""
+    if q.pre is None:
+        return None
+    world.set_arm(q.pre)
+    pre_z = world.ee_pose().pos[2]
+    world.set_arm(q.q)
+    hand = world.ee_pose()
+    if pre_z - hand.pos[2] >= LIFT_HEIGHT / 2:
+        return q.pre
+    up = Pose((hand.pos[0], hand.pos[1], hand.pos[2] + LIFT_HEIGHT), hand.quat)
+    lift = solve_ik(world, up, random.Random(0), seed_q=q.q, settings=IkSettings(restarts=0))
+    world.set_arm(q.q)
+    return lift if lift is not None else q.pre
 
 
 def place(ctx: Context, action: ConcreteAction) -> None:
