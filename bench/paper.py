@@ -31,7 +31,7 @@ import subprocess
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -40,11 +40,12 @@ for entry in (str(REPO), str(REPO / "bench")):
         sys.path.insert(0, entry)
 
 from paper_classes import CLASSES, ProblemClass  # noqa: E402
-from paper_report import table  # noqa: E402
+from paper_report import executed as _executed, table  # noqa: E402
 
 THRESHOLDS = ("0.5", "0.8", "0.9", "1.0")
 SOLVED_COVERAGE = 0.999
 QUICK_TIMEOUT = 120.0
+EXECUTE_RUNS = 20  # executions of each solved policy in the world (--execute)
 
 
 @dataclass(frozen=True)
@@ -56,6 +57,8 @@ class Job:
     out_dir: str
     #: further ``stampc refine`` arguments (``--refine-args``)
     refine_args: tuple[str, ...] = ()
+    #: ``stampc execute`` runs of each solved policy (0: none)
+    execute_runs: int = EXECUTE_RUNS
 
 
 @dataclass(frozen=True)
@@ -63,7 +66,9 @@ class RunRecord:
     cls: str
     run: int
     seed: int
-    status: str  # "solved" | "partial" | "gave-up" | "timeout" | "error"
+    #: "solved" | "partial" | "gave-up" | "timeout" | "error" | "exec-failed" (refined to
+    #: the target, but an execution in the world failed, collided or missed the goal)
+    status: str
     coverage: float = 0.0
     goal_probability: float = 0.0
     process_s: float = 0.0  # the whole subprocess (primary time)
@@ -77,6 +82,9 @@ class RunRecord:
     given_up: float | None = None  # goal mass given up (None: the engine has no split)
     instance: str = ""
     detail: str = ""
+    #: ``stampc execute`` of the solved policy: runs, success, failure, collisions,
+    #: goal_failures, unrefined, seconds (empty: not executed)
+    execution: dict[str, float] = field(default_factory=dict)
 
     @property
     def solved(self) -> bool:
@@ -189,12 +197,39 @@ def run_job(job: Job) -> RunRecord:
         status = "gave-up"
     else:
         status = "solved" if process_s <= job.timeout_s else "timeout"
-    return RunRecord(**base, status=status, coverage=coverage,
+    execution: dict[str, float] = {}
+    if status == "solved" and job.execute_runs > 0:
+        execution = execute(result / "policy.json", job.execute_runs, job.seed)
+        if not execution.get("clean"):
+            status = "exec-failed"
+    return RunRecord(**base, status=status, coverage=coverage, execution=execution,
                      goal_probability=float(summary["goal_probability"]), process_s=process_s,
                      cpu_s=cpu_s, engine_s=engine,
                      time_to={k: summary.get("time_to_coverage", {}).get(k) for k in THRESHOLDS},
                      work=work_counts(result, stats), given_up=given_up, instance=str(problem),
                      detail=str(summary.get("stop_reason", "")))
+
+
+def execute(policy: Path, runs: int, seed: int) -> dict[str, float]:
+    """Run the policy ``runs`` times in its world (``stampc execute``: outcomes sampled by
+    the world, trajectories re-swept at 10x, the goal checked on the concrete state):
+    evidence from outside the refinement that a "solved" policy works."""
+    path = os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))
+    cmd = [sys.executable, "-m", "stampc", "execute", str(policy), "--runs", str(runs),
+           "--seed", str(seed), "--format", "json"]
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": path})
+    seconds = round(time.perf_counter() - t0, 2)
+    try:
+        data = json.loads(proc.stdout)
+    except json.JSONDecodeError:
+        return {"runs": runs, "error": 1, "clean": 0, "seconds": seconds}
+    out = {k: data.get(k, 0) for k in ("runs", "success", "failure", "dead_end", "unrefined",
+                                       "collisions", "goal_check_failures")}
+    clean = (proc.returncode == 0 and not out["failure"] and not out["collisions"]
+             and not out["goal_check_failures"] and not out["unrefined"])
+    return {**out, "clean": int(clean), "seconds": seconds}
 
 
 def _anytime(records: list[RunRecord], out: Path, path: Path) -> None:
@@ -228,17 +263,32 @@ def _anytime(records: list[RunRecord], out: Path, path: Path) -> None:
     plt.close(fig)
 
 
-def report(files: list[str]) -> int:
-    """The table of the runs recorded in ``files`` (``runs.json`` of earlier runs)."""
+def report(files: list[str], execute_runs: int = 0) -> int:
+    """The table of the runs recorded in ``files`` (``runs.json`` of earlier runs). With
+    ``execute_runs``, solved runs recorded without an execution are executed now (their
+    policies are read from beside the runs.json) and the file is written back."""
     by_key: dict[tuple[str, int], RunRecord] = {}
     for f in files:
-        for raw in json.loads(Path(f).read_text()):
-            rec = RunRecord(**raw)
+        raws = json.loads(Path(f).read_text())
+        records = [_executed_late(RunRecord(**raw), Path(f).parent, execute_runs)
+                   for raw in raws]
+        if execute_runs:
+            Path(f).write_text(json.dumps([asdict(r) for r in records], indent=1))
+        for rec in records:
             by_key[(rec.cls, rec.seed)] = rec
     records = list(by_key.values())
     names = {r.cls for r in records}
     print(table(records, tuple(c for c in CLASSES if c.name in names)))
     return 0
+
+
+def _executed_late(rec: RunRecord, out: Path, runs: int) -> RunRecord:
+    policy = out / rec.cls / f"run{rec.run}" / "result" / "policy.json"
+    if not runs or rec.status != "solved" or rec.execution or not policy.is_file():
+        return rec
+    execution = execute(policy, runs, rec.seed)
+    return replace(rec, execution=execution,
+                   status="solved" if execution.get("clean") else "exec-failed")
 
 
 def _records(jobs: list[Job], args: argparse.Namespace):
@@ -271,16 +321,22 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--refine-args", default="", metavar="ARGS",
                     help="further stampc refine arguments for every run, e.g. "
                          "'--ban-everywhere-after 3'")
+    ap.add_argument("--execute", type=int, default=EXECUTE_RUNS, metavar="N",
+                    help="stampc execute runs of each solved policy; a failure, collision or "
+                         f"missed goal makes the run 'exec-failed' (default {EXECUTE_RUNS}; "
+                         "0: none)")
     args = ap.parse_args(argv)
-    if args.report:
-        return report(args.report)
+    if args.report:  # an explicit --execute N also executes runs recorded without one
+        explicit = any(a.startswith("--execute") for a in (argv or sys.argv[1:]))
+        return report(args.report, args.execute if explicit else 0)
     classes = tuple(c for c in CLASSES if re.search(args.classes, c.name)
                     and (args.beyond or args.classes or not c.beyond))
     runs = 1 if args.quick else args.runs
     out = Path(args.out).resolve()
     jobs = [Job(cls, i, args.seed_base + i,
                 args.timeout or (QUICK_TIMEOUT if args.quick else cls.timeout_s),
-                str(out / cls.name / f"run{i}"), tuple(shlex.split(args.refine_args)))
+                str(out / cls.name / f"run{i}"), tuple(shlex.split(args.refine_args)),
+                max(0, args.execute))
             for cls in classes for i in range(runs)]
     where = f"{args.jobs} at a time" if args.ray is None else f"on Ray ({args.ray or 'default'})"
     print(f"{len(jobs)} runs of {len(classes)} classes, {where} -> {out}")
@@ -289,7 +345,8 @@ def main(argv: list[str] | None = None) -> int:
         records.append(rec)
         print(f"  {rec.cls:16s} seed {rec.seed:3d}: {rec.status:8s} coverage "
               f"{rec.coverage:.4f} process {rec.process_s:7.1f} s (cpu {rec.cpu_s:.1f}) engine "
-              f"{rec.engine_s:7.1f} s  {json.dumps(rec.work)}  {rec.detail[:50]}", flush=True)
+              f"{rec.engine_s:7.1f} s  {json.dumps(rec.work)}  {rec.detail[:50]}"
+              + (f"  executed {_executed([rec])}" if rec.execution else ""), flush=True)
     out.mkdir(parents=True, exist_ok=True)
     (out / "runs.json").write_text(json.dumps([asdict(r) for r in records], indent=1))
     text = table(records, classes)

@@ -29,10 +29,19 @@ def _rows(records: list[Any], cls: Any) -> list[Any]:
     return [r for r in records if r.cls == cls.name]
 
 
+def executed(records: list[Any]) -> str:
+    """``success/runs, collisions`` over the executions of ``records``' policies."""
+    ex = [r.execution for r in records if r.execution]
+    if not ex:
+        return "—"
+    return (f"{sum(int(e.get('success', 0)) for e in ex)}/{sum(int(e.get('runs', 0)) for e in ex)}"
+            f", {sum(int(e.get('collisions', 0)) for e in ex)} coll.")
+
+
 def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
-    head = ("| class | runs | solved | goal prob. (median) | median process s | median "
-            "process CPU s | median engine s | paper solved | paper avg s | process / paper "
-            "avg | split |")
+    head = ("| class | runs | solved | executed (success, collisions) | goal prob. (median) | "
+            "median process s | median process CPU s | median engine s | paper solved | "
+            "paper avg s | process / paper avg | split |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for cls in classes:
         rs = _rows(records, cls)
@@ -49,7 +58,7 @@ def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
         split = ("n/a" if all(r.given_up is None for r in rs) else
                  f"dead end {_fmt(_median([r.coverage - r.goal_probability for r in rs]), 3)}")
         lines.append(
-            f"| {cls.name} | {len(rs)} | {len(solved)}/{len(rs)} | "
+            f"| {cls.name} | {len(rs)} | {len(solved)}/{len(rs)} | {executed(rs)} | "
             f"{_fmt(_median([r.goal_probability for r in rs]), 3)} | {_fmt(med)} | "
             f"{_fmt(_median([r.cpu_s for r in solved]))} | "
             f"{_fmt(_median([r.engine_s for r in solved]), 2)} | {paper} | "
@@ -101,7 +110,11 @@ def table(records: list[Any], classes: Sequence[Any]) -> str:
             by_note.setdefault(c.note, []).append(c.name)
     notes = [f"- {', '.join(names)}: {note}" for note, names in by_note.items()]
     parts = outcome_table(records, classes) + [
-        "", f"Solved: coverage ≥ 0.999 within the timeout and no goal mass given up "
+        "", f"Solved: coverage ≥ 0.999 within the timeout, no goal mass given up "
+        f"and every execution of the policy in the world clean (\"executed\": `stampc "
+        f"execute` of each policy that reached the target: outcomes sampled by the world, "
+        f"trajectories re-swept at 10x, the goal checked on the concrete state; a failure, "
+        f"collision or missed goal makes the run exec-failed) "
         f"(coverage counts a dead end only when the abstract model, with everything learned, "
         f"proves the goal unreachable there; \"split\": the median proven-dead-end mass, the "
         f"rest of the coverage is goal mass; \"n/a\": the engine did not report it). Times are "
