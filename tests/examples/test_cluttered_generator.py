@@ -116,3 +116,36 @@ def test_side_grasps_meet_the_clutter_that_top_grasps_clear():
     side = [obstruction_profile(25, s, "side") for s in range(10)]
     top = [obstruction_profile(25, s, "top") for s in range(10)]
     assert sum(v > 0 for v in side) > sum(v > 0 for v in top)
+
+
+def test_every_side_grasp_lifts_the_can_it_takes():
+    """A side grasp backs off by lifting (sideways it would drag the can along the
+    table): the generator yields only grasps with a lift, and after the pick executor
+    the can rises when the arm backs off, as ``stampc execute``'s goal check demands."""
+    from stampc.execute.goals import _held_and_lifted
+    from stampc.worlds.base import ConcreteAction
+    from stampc.worlds.pybullet import manipulation
+
+    scene = cluttered_table_random(15, 0)
+    target = scene["meta"]["target"]
+    world = open_world(scene, seed=0)
+    try:
+        ctx = Context(world=world, rng=random.Random(0), options={})
+        pose = world.initial_values()[f"pose_{target}"]
+        start = world.snapshot()
+        lifted = 0
+        for name, base in world.candidate_bases().items():
+            world.move_base(base, name)
+            at_base = world.snapshot()
+            for g, q in cluttered._grasps(ctx, target, pose):
+                assert g.kind == "side"
+                action = ConcreteAction("pick", {"o": target, "q": q},
+                                        adds=(("holding", (target,)),))
+                manipulation.pick(ctx, action)
+                assert _held_and_lifted(world, target) == []
+                lifted += 1
+                world.restore(at_base)
+            world.restore(start)
+        assert lifted >= 2
+    finally:
+        world.close()

@@ -116,8 +116,9 @@ def _grasp_config(world: PyBulletWorld, ctx: Context, o: str, p: Pose,
     q = solve_ik(world, hand, ctx.rng, settings=_ik(ctx))
     pre = solve_ik(world, g.pregrasp(p), ctx.rng, seed_q=q, settings=_ik(ctx)) if q else None
     ok = q is not None and pre is not None and _approach_ok(world, pre, q)
-    ctx.cache[key] = (Config.of(q, obj=o, pre=pre, robot=robot, base=base)  # type: ignore[arg-type]
-                      if ok else None)
+    config = Config.of(q, obj=o, pre=pre, robot=robot, base=base) if ok else None  # type: ignore[arg-type]
+    # a grasp the hand cannot lift the object from (a side grasp without a lift) is none
+    ctx.cache[key] = config if config is None or _lift(world, config) is not None else None
     return ctx.cache[key]
 
 
@@ -291,7 +292,7 @@ def pick(ctx: Context, action: ConcreteAction) -> None:
     world.update(q=q.q, retreat=None, released=None)
     if _adds(action, "holding", o) and world.present(o):
         grip = world.ee_pose().inverse().multiply(world.object_pose(o))
-        world.update(held=o, grip=grip, retreat=_lift(world, q))
+        world.update(held=o, grip=grip, retreat=_lift(world, q) or q.pre)
     else:  # e.g. a slip: the hand backs off from the untouched object
         world.update(retreat=q.pre, released=o)
 
@@ -299,9 +300,10 @@ def pick(ctx: Context, action: ConcreteAction) -> None:
 def _lift(world: PyBulletWorld, q: Config) -> tuple[float, ...] | None:
     """Where the hand backs off to with the object it closed on: the pre-grasp config when
     that lies above the grasp (top grasps), else the hand raised by :data:`LIFT_HEIGHT`
-    (side grasps: backing off sideways would drag the object along its support). The IK
-    starts from the grasp config with no random restarts, so the lift is deterministic and
-    a short straight stretch; without a solution the pre-grasp is kept."""
+    (side grasps: backing off sideways would drag the object along its support); None
+    when that lift has no IK solution. The IK starts from the grasp config with no random
+    restarts: deterministic (the pick executor recomputes what the grasp generator
+    checked) and a short straight stretch."""
     if q.pre is None:
         return None
     world.set_arm(q.pre)
@@ -313,7 +315,7 @@ def _lift(world: PyBulletWorld, q: Config) -> tuple[float, ...] | None:
     up = Pose((hand.pos[0], hand.pos[1], hand.pos[2] + LIFT_HEIGHT), hand.quat)
     lift = solve_ik(world, up, random.Random(0), seed_q=q.q, settings=IkSettings(restarts=0))
     world.set_arm(q.q)
-    return lift if lift is not None else q.pre
+    return lift
 
 
 def place(ctx: Context, action: ConcreteAction) -> None:
