@@ -3,9 +3,11 @@
 Static atoms and equalities are decided here, quantifiers expand over the (typed)
 objects including Skolem symbols, ``imply`` becomes ``or``, and fluent atoms become
 :class:`GLit` over fact indices. A fluent atom outside the reachable fact set is false in
-every reachable state, except for facts of unknowable predicates whose optimistic value
-is true: those are registered as *missing* facts so the grounder can add them (they
-start true) and re-run.
+every reachable state, except for facts of unknowable predicates: no action may set them,
+yet refinement decides them in the world (a ``collision`` with an object no action
+moves), so they are registered as *missing* facts that the grounder adds (at their
+optimistic value) before it re-runs; pruning them would drop the ``?`` checks of every
+precondition that names them.
 """
 
 from __future__ import annotations
@@ -88,8 +90,8 @@ class FactTable:
 
     def lookup(self, key: AtomKey) -> int | None:
         i = self.index.get(key)
-        if i is None and key[0] in self.ctx.optimistic_true:
-            self.missing.add(key)  # optimistically true from the start: needs a fact
+        if i is None and key[0] in self.ctx.unknowable:
+            self.missing.add(key)  # decided by refinement, not by the actions: needs a fact
         return i
 
     def require(self, key: AtomKey) -> int | None:

@@ -188,8 +188,10 @@ def motion(ctx: Context, a: str, q: Config) -> Iterator[tuple[Traj]]:
 
 
 def blocked(ctx: Context, t: Traj) -> bool:
-    """Whether trajectory ``t`` (its arm and held plank) hits a plank."""
-    return bool(manipulation.blocking_objects(ctx, as_traj(t)))
+    """Whether trajectory ``t`` (its arm and held plank) hits a plank or the other arm,
+    where they are in the state it is checked in."""
+    t = as_traj(t)
+    return bool(manipulation.blocking_objects(ctx, t) or manipulation.robots_hit(ctx, t))
 
 
 # ------------------------------------------------------------------ executors
@@ -255,8 +257,13 @@ def put(ctx: Context, action: ConcreteAction) -> None:
 def _go_home(ctx: Context, world: PyBulletWorld, a: str) -> None:
     """Back off and return arm ``a`` to its rest config, out of the other arm's way:
     straight in joint space when that is collision-free (deterministic, so branches
-    still merge), else along an OMPL path; if neither is found it stays where it let go."""
+    still merge), else along an OMPL path; if neither is found it stays where it let go.
+    The planner is seeded by the state, not by the caller, and has no run deadline: the
+    arm must end where refinement saw it end when ``stampc execute`` replays the step
+    (with the caller's stream, execution once left an arm in the other's path)."""
     assert world.model is not None
+    ctx = Context(world=ctx.world, rng=random.Random(f"home:{a}:{world.state.q}"),
+                  options=ctx.options, cache=ctx.cache, values=ctx.values)
     robot, base = manipulation._owner(world)
     state = world.state
     home = tuple(world.model.rest)

@@ -225,22 +225,36 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
 
 
 # ------------------------------------------------------------------ evaluators
-def blocking_objects(ctx: Context, t: Traj) -> frozenset[str]:
-    """Movable objects the trajectory (robot and held object) hits, computed once per
-    trajectory and state at fine resolution. The task's own contacts are not hits only
-    where :func:`~.planning.bad_bodies` says so (the object just let go, during the
-    retreat; the target, during the approach): elsewhere on the path they are real
-    collisions — a place's object left right in the way of the next pick's path is one,
-    and ``stampc execute``'s re-check counts it."""
-    t = as_traj(t)
-    world = _world(ctx, t.robot)
+def _swept(ctx: Context, t: Traj) -> frozenset[int]:
+    """Every body trajectory ``t`` (its robot and held object) hits, swept once per
+    trajectory and state at fine resolution (the task's own contacts excepted only where
+    :func:`~.planning.bad_bodies` says so)."""
     key = ("sweep", t)
     if key not in ctx.cache:
-        hit = sweep(world, t)
+        world = _world(ctx, t.robot)
+        ctx.cache[key] = sweep(world, t)
         world.set_arm(world.state.q)
-        ctx.cache[key] = frozenset(n for n in world.names(hit & world.movable_ids)
-                                   if n != t.held)
     return ctx.cache[key]
+
+
+def blocking_objects(ctx: Context, t: Traj) -> frozenset[str]:
+    """Movable objects the trajectory (robot and held object) hits. The task's own
+    contacts are not hits only where :func:`~.planning.bad_bodies` says so (the object
+    just let go, during the retreat; the target, during the approach): elsewhere on the
+    path they are real collisions — a place's object left right in the way of the next
+    pick's path is one, and ``stampc execute``'s re-check counts it."""
+    t = as_traj(t)
+    world = _world(ctx, t.robot)
+    return frozenset(n for n in world.names(_swept(ctx, t) & world.movable_ids) if n != t.held)
+
+
+def robots_hit(ctx: Context, t: Traj) -> frozenset[str]:
+    """The other robots the trajectory hits where they stand now (a path planned while
+    another arm was elsewhere may meet it when reused in another state)."""
+    t = as_traj(t)
+    world = _world(ctx, t.robot)
+    bodies = {arm.body: name for name, arm in world.arms.items() if name != t.robot}
+    return frozenset(bodies[b] for b in _swept(ctx, t) if b in bodies)
 
 
 def collision(ctx: Context, x: str, t: Traj) -> bool:
