@@ -258,7 +258,8 @@ def robots_hit(ctx: Context, t: Traj) -> frozenset[str]:
 
 
 def collision(ctx: Context, x: str, t: Traj) -> bool:
-    """Does ``t`` hit object ``x`` (not counting the held and the target object)?"""
+    """Does ``t`` hit object ``x``? (Never the held object; the target and the object
+    just let go only outside the approach and retreat stretches.)"""
     return x in blocking_objects(ctx, t)
 
 
