@@ -102,12 +102,17 @@ def make_problem(cls: ProblemClass, seed: int, out_dir: Path) -> tuple[Path, Pat
     return Path(domain), problem
 
 
+def _child_env() -> dict[str, str]:
+    """The environment of a run's subprocess: this checkout first on PYTHONPATH."""
+    path = os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))
+    return {**os.environ, "PYTHONPATH": path}
+
+
 def _run_with_deadline(cmd: list[str], deadline_s: float) -> tuple[int, str, bool]:
     """Run ``cmd``; past the deadline send SIGINT (stampc then writes the best policy
     so far) and kill it 30 s later. Returns (exit code, stderr, killed)."""
-    path = os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))
     proc = subprocess.Popen(cmd, cwd=REPO, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                            text=True, env={**os.environ, "PYTHONPATH": path})
+                            text=True, env=_child_env())
     try:
         _, err = proc.communicate(timeout=deadline_s)
         return proc.returncode, err, False
@@ -214,12 +219,10 @@ def execute(policy: Path, runs: int, seed: int) -> dict[str, float]:
     """Run the policy ``runs`` times in its world (``stampc execute``: outcomes sampled by
     the world, trajectories re-swept at 10x, the goal checked on the concrete state):
     evidence from outside the refinement that a "solved" policy works."""
-    path = os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))
     cmd = [sys.executable, "-m", "stampc", "execute", str(policy), "--runs", str(runs),
            "--seed", str(seed), "--format", "json"]
     t0 = time.perf_counter()
-    proc = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True,
-                          env={**os.environ, "PYTHONPATH": path})
+    proc = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, env=_child_env())
     seconds = round(time.perf_counter() - t0, 2)
     try:
         data = json.loads(proc.stdout)

@@ -32,6 +32,19 @@ def build(spec: dict[int, tuple]) -> PolicyGraph:
     return PolicyGraph(0, nodes)
 
 
+def merging_ladder(levels: int) -> dict[int, tuple]:
+    """``levels`` two-way branches (0.8 / 0.2) whose arms re-join at the next level, then
+    a goal leaf: 2^levels root-to-leaf paths over 3 * levels + 1 nodes."""
+    spec: dict[int, tuple] = {}
+    for level in range(levels):
+        a, nxt = 3 * level, 3 * level + 3
+        spec[a] = ("act", True, [(0.8, a + 1), (0.2, a + 2)])
+        spec[a + 1] = ("act", True, [(1.0, nxt)])
+        spec[a + 2] = ("act", True, [(1.0, nxt)])
+    spec[3 * levels] = ("leaf", GOAL)
+    return spec
+
+
 def test_leaf_path_probabilities_sum_to_one():
     g = build({0: ("act", False, [(0.3, 1), (0.7, 2)]),
                1: ("act", False, [(0.5, 3), (0.5, 4)]),
@@ -184,14 +197,7 @@ def test_count_covered_paths_matches_enumeration_and_scales():
         expected = sum(1 for _, p in iter_leaf_paths(g) if path_is_covered(g, p))
         assert count_covered_paths(g) == expected
     # the merging ladder of 40 two-way branches: 2^40 covered paths, counted at once
-    spec = {}
-    for level in range(40):
-        a, nxt = 3 * level, 3 * level + 3
-        spec[a] = ("act", True, [(0.8, a + 1), (0.2, a + 2)])
-        spec[a + 1] = ("act", True, [(1.0, nxt)])
-        spec[a + 2] = ("act", True, [(1.0, nxt)])
-    spec[120] = ("leaf", GOAL)
-    assert count_covered_paths(build(spec)) == 2 ** 40
+    assert count_covered_paths(build(merging_ladder(40))) == 2 ** 40
 
 
 def test_reaches_leaf_sees_loops_with_and_without_a_way_out():
@@ -203,13 +209,7 @@ def test_reaches_leaf_sees_loops_with_and_without_a_way_out():
 
 def test_postorder_puts_children_first_and_flags_cycles():
     # a merging ladder: each child comes before every parent, and the graph is acyclic
-    spec = {}
-    for level in range(5):
-        a, nxt = 3 * level, 3 * level + 3
-        spec[a] = ("act", True, [(0.8, a + 1), (0.2, a + 2)])
-        spec[a + 1] = ("act", True, [(1.0, nxt)])
-        spec[a + 2] = ("act", True, [(1.0, nxt)])
-    spec[15] = ("leaf", GOAL)
+    spec = merging_ladder(5)
     g = build(spec)
     order, acyclic = g.postorder()
     assert acyclic and sorted(order) == sorted(spec)
