@@ -166,7 +166,7 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
         if x0 not in search.terminal:
             _run_guide(search, state, options.epsilon)
         if options.algorithm == "lao":
-            lao(search, x0, options.epsilon)
+            lao(search, x0, options.epsilon, prune=options.prune_probability)
         elif options.algorithm == "lrtdp":
             lrtdp(search, x0, options.epsilon, options.seed)
         elif options.algorithm == "tvi":  # issue 15: topological VI in its own module
