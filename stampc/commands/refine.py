@@ -39,8 +39,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="heuristic weight of the abstract solver (default 1)")
     parser.add_argument("--prune-probability", type=prune_probability, default=None, metavar="P",
                         help="abstract solves leave outcomes reached with probability below P "
-                             "unplanned until refinement gets there (default 0.05; 0: plan "
-                             "every outcome at once; docs/refine.md)")
+                             "unplanned until refinement gets there (default 0: plan every "
+                             "outcome at once; docs/refine.md)")
     parser.add_argument("--workers", type=positive_int, default=1, metavar="N",
                         help="concretize up to N independent nodes at a time: this "
                              "process and N-1 worker processes (default 1: no worker); "
