@@ -93,6 +93,13 @@ def probability(text: str) -> float:
     return value
 
 
+def prune_probability(text: str) -> float:
+    value = _number(text, float)
+    if not 0.0 <= value < 1.0:  # also rejects nan; 1 would prune the root's own outcomes
+        raise argparse.ArgumentTypeError(f"must be within [0, 1), got {text!r}")
+    return value
+
+
 def target_coverage(text: str) -> float:
     value = _number(text, float)
     if not 0.0 < value <= 1.0:

@@ -9,7 +9,7 @@ from pathlib import Path
 from stampc.commands.common import (EXIT_DONE, EXIT_INPUT, EXIT_STOPPED_SHORT, EXIT_USAGE,
                                     add_input_arguments, count, heuristic_weight,
                                     parse_scene_args, positive_float, positive_int, probability,
-                                    reports_errors, target_coverage)
+                                    prune_probability, reports_errors, target_coverage)
 
 HELP = "refine an abstract policy with concrete motions (ATM-MDP), anytime"
 
@@ -37,6 +37,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "when it finds no way to the goal)")
     parser.add_argument("--weight", type=heuristic_weight, default=1.0,
                         help="heuristic weight of the abstract solver (default 1)")
+    parser.add_argument("--prune-probability", type=prune_probability, default=None, metavar="P",
+                        help="abstract solves leave outcomes reached with probability below P "
+                             "unplanned until refinement gets there (default 0: plan every "
+                             "outcome at once; docs/refine.md)")
     parser.add_argument("--workers", type=positive_int, default=1, metavar="N",
                         help="concretize up to N independent nodes at a time: this "
                              "process and N-1 worker processes (default 1: no worker); "
@@ -58,6 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from stampc import api
     from stampc.refine import RefineOptions
+    from stampc.refine.options import PRUNE_PROBABILITY
     from stampc.solvers import SolverOptions
 
     try:
@@ -70,7 +75,9 @@ def run(args: argparse.Namespace) -> int:
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
         ban_everywhere_after=args.ban_everywhere_after,
-        solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed))
+        solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
+                             prune_probability=PRUNE_PROBABILITY if args.prune_probability
+                             is None else args.prune_probability))
     # bad input (StampcError, exit 1) and unreadable files (OSError, 2): reports_errors
     with _progress(args.quiet) as on_event:
         run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,

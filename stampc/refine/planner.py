@@ -111,8 +111,11 @@ class AbstractPlanner:
             return self._graft_forced(graph, state, depth, horizon, forced_action)
         solution = self.solve_from(state, learned)
         remaining = max(0, horizon - depth)
+        # a capped or pruned solve leaves tips unexpanded: they become horizon leaves,
+        # planned when the engine gets there (one-step lookahead there would be blind)
+        partial = not solution.converged or solution.options.prune_probability > 0
         tree = policy_tree(self.solve_model, solution, init=state, depth=remaining,
-                           planned_only=not solution.converged)
+                           planned_only=partial)
         return self._add_tree(graph, tree, depth)
 
     def _graft_forced(self, graph: PolicyGraph, state: int, depth: int, horizon: int,

@@ -42,6 +42,10 @@ def check_options(options: SolverOptions) -> None:
     if not (options.weight >= 1.0 and options.weight < float("inf")):
         problems.append(error("S008", f"heuristic weight must be a finite number >= 1, "
                               f"got {options.weight}", _OPTIONS_SPAN))
+    if not 0.0 <= options.prune_probability < 1.0:  # also refuses nan
+        problems.append(error("S009", "prune probability must be in [0, 1), got "
+                              f"{options.prune_probability}", _OPTIONS_SPAN,
+                              hint="0 plans every outcome; see docs/refine.md"))
     if options.time_limit is not None and not options.time_limit > 0:
         problems.append(error("S006", f"time limit must be positive, got {options.time_limit}",
                               _OPTIONS_SPAN))
@@ -166,7 +170,7 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
         if x0 not in search.terminal:
             _run_guide(search, state, options.epsilon)
         if options.algorithm == "lao":
-            lao(search, x0, options.epsilon)
+            lao(search, x0, options.epsilon, prune=options.prune_probability)
         elif options.algorithm == "lrtdp":
             lrtdp(search, x0, options.epsilon, options.seed)
         elif options.algorithm == "tvi":  # issue 15: topological VI in its own module

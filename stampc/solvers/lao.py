@@ -14,7 +14,8 @@ from stampc.solvers.core import Search
 _TIME_CHECK_EVERY = 8
 
 
-def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
+def lao(search: Search, init: int, epsilon: float, dive: bool = True,
+        prune: float = 0.0) -> None:
     """Run ILAO* from ``init``; raises ``SolverTimeout`` past the deadline.
 
     With ``dive`` a freshly expanded tip whose backed-up value did not rise (its heuristic
@@ -30,6 +31,7 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
         changed = False
         visited = {init}
         stack = [init]
+        reach = {init: 1.0}  # first-visit path probability (pruning only)
         while stack:
             x = stack.pop()
             if x < 0:  # post-visit marker: Bellman backup
@@ -45,6 +47,8 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
                 V[x] = bq
                 continue
             if x not in expanded:
+                if prune and reach[x] < prune:
+                    continue  # a low-probability tip keeps its estimate (partial policy)
                 search.expand(x)
                 expansions += 1
                 rose = x not in terminal and search.backup(x) > epsilon
@@ -57,11 +61,15 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True) -> None:
             stack.append(-x - 1)
             bi = best.get(x, -1)
             if bi >= 0:
-                for n in expanded[x][bi][3]:
+                _, _, probs, nexts = expanded[x][bi]
+                rx = reach[x] if prune else 1.0
+                for p, n in zip(probs, nexts):
                     if n not in visited:
                         visited.add(n)
                         if n not in terminal:
                             stack.append(n)
+                            if prune:
+                                reach[n] = rx * p
         search.check_time()
         if expansions == 0 and not changed and residual < epsilon:
             return

@@ -27,6 +27,10 @@ class SolverOptions:
     #: heuristic weight (weighted LAO*): > 1 trades optimality for speed; 1 keeps an
     #: admissible heuristic admissible
     weight: float = 1.0
+    #: LAO* leaves unexpanded every tip the greedy policy reaches with probability below
+    #: this (0: off). The result is a *partial* policy whose low-probability tips keep
+    #: their heuristic values; the refinement engine plans them when it gets there.
+    prune_probability: float = 0.0
 
 
 @dataclass(frozen=True)

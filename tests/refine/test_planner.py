@@ -63,6 +63,24 @@ def test_unplanned_tips_of_a_timed_out_solve_become_horizon_leaves():
     assert any(n.leaf == HORIZON for n in graph.nodes.values())
 
 
+@pytest.mark.parametrize("prune", (0.0, 0.5))
+def test_pruned_outcomes_are_planned_when_refinement_gets_there(prune):
+    """With ``prune_probability`` 0.5 the crush (1/10) of a blocker's pick is left to a
+    horizon leaf at first; the engine extends such leaves and still covers all the mass."""
+    engine = engine_for(SHELF, seed=0, time_limit=60,
+                        solver=SolverOptions(heuristic="hadd", prune_probability=prune))
+    _, blocked, _ = _learned_shelf_states()  # can1 must be moved first: its pick may crush
+    graph = PolicyGraph(-1, {})
+    graph.root = engine._graft_growing(graph, blocked, 0, None)
+    crushed_tips = [n for n in graph.nodes.values() if n.leaf == HORIZON]
+    assert bool(crushed_tips) == (prune > 0)
+    events = list(engine.run())
+    assert events[-1].coverage == pytest.approx(1.0, abs=1e-9)
+    assert events[-1].goal_probability == pytest.approx(1.0, abs=1e-9)
+    extended = [e for e in events if e.kind == "extend"]
+    assert bool(extended) == (prune > 0)
+
+
 def _learned_shelf_states():
     """The shelf problem, with can1 learned to block every trajectory that picks can0 and
     then can2 learned to block them too."""

@@ -25,7 +25,11 @@ from stampc.worlds.pybullet.values import Config, Traj, interpolate
 from stampc.worlds.pybullet.world import PyBulletWorld
 
 PLAN_RESOLUTION = 0.05  # rad: OMPL's longest valid segment
-CHECK_RESOLUTION = 0.01  # rad: final recheck and collision sweeps
+#: rad: the final check of a trajectory and the ``collision`` evaluator's sweeps. It is
+#: the resolution ``stampc execute`` re-checks at (PLAN_RESOLUTION / 10): a graze thinner
+#: than a coarser spacing passed refinement and failed execution (0.13 mm, cluttered-15
+#: seed 3), so a refined trajectory is now clear at every configuration execution tests.
+CHECK_RESOLUTION = PLAN_RESOLUTION / 10
 #: OMPL geometric planners selectable with the ``planner`` option
 PLANNERS = ("RRTConnect", "RRT", "KPIECE1", "BKPIECE1", "LBKPIECE1", "PRM", "RRTstar",
             "BITstar")
