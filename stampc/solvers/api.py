@@ -43,7 +43,7 @@ def check_options(options: SolverOptions) -> None:
         problems.append(error("S008", f"heuristic weight must be a finite number >= 1, "
                               f"got {options.weight}", _OPTIONS_SPAN))
     if not 0.0 <= options.prune_probability < 1.0:  # also refuses nan
-        problems.append(error("S009", "prune probability must be in [0, 1), got "
+        problems.append(error("S010", "prune probability must be in [0, 1), got "
                               f"{options.prune_probability}", _OPTIONS_SPAN,
                               hint="0 plans every outcome; see docs/refine.md"))
     if options.time_limit is not None and not options.time_limit > 0:

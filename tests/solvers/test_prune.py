@@ -66,4 +66,4 @@ def test_a_prune_probability_outside_zero_one_is_a_located_error(bad):
     _, model = rare_detour_model()
     with pytest.raises(StampcError) as err:
         solve(model, SolverOptions(prune_probability=bad))
-    assert {d.code for d in err.value.diagnostics} == {"S009"}
+    assert {d.code for d in err.value.diagnostics} == {"S010"}
