@@ -50,6 +50,7 @@ class Engine(Backtracking, Reporting):
         self.uids = itertools.count()
         self.planner = AbstractPlanner(model, options.solver, self.uids, options.fallback_solver)
         self.planner.max_retries = options.solve_retries
+        self.planner.timeout_prune = options.timeout_prune_probability
         self.concretizer = Concretizer(model, bindings, world, options.seed)
         self.initial_values = dict(world.initial_values())
         self.prg = nx.DiGraph()

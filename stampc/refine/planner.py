@@ -43,6 +43,9 @@ class AbstractPlanner:
         #: a capped solve is continued this many times (doubling the cap) before its
         #: partial policy is used
         self.max_retries = 2
+        #: the continuation of a capped solve plans only outcomes reached with at least
+        #: this probability (0: all); the rest wait as horizon leaves
+        self.timeout_prune = 0.0
         self.timeouts = 0
         #: what the last ``solve_from`` did beyond one plain solve (for progress events)
         self.notes: list[str] = []
@@ -56,19 +59,25 @@ class AbstractPlanner:
 
         A solve that hits its cap is *not* taken as a verdict: it is continued (its tables
         are a consistent warm start) with twice the time, up to ``max_retries`` times
-        within the run's deadline. Only a converged solve without a way to the goal
-        falls back to the next solver settings (h_FF). ``notes`` says what happened."""
+        within the run's deadline, planning only the outcomes reached with probability
+        ``timeout_prune`` or more (the rest are planned when refinement gets there). Only
+        a converged solve without a way to the goal falls back to the next solver
+        settings (h_FF). ``notes`` says what happened."""
         self.notes = []
         primary = self.chain[0]
         cap = self.solve_time_limit
         solution = self._solve_with(primary, state, learned, cap)
+        if self.timeout_prune > primary.prune_probability:
+            primary = replace(primary, prune_probability=self.timeout_prune)
         for _ in range(self.max_retries):
             if solution.converged or self._remaining() <= 0.05:
                 break
             cap = 2 * cap if cap else None
             self.timeouts += 1
-            self.notes.append(f"solver timeout: retry with more time ({cap:g} s)" if cap
-                              else "solver timeout: retry")
+            pruned = f", outcomes below {primary.prune_probability:g} left for later" \
+                if primary.prune_probability else ""
+            self.notes.append(f"solver timeout: retry with more time ({cap:g} s{pruned})" if cap
+                              else f"solver timeout: retry{pruned}")
             solution = self._solve_with(primary, state, learned, cap)
         for fallback in self.chain[1:]:
             if solution.goal_probability > 0.0 or self._remaining() <= 0.05:

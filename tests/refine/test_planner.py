@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 import stampc
+from stampc.diagnostics import StampcError
 from stampc.refine import Engine, RefineOptions
 from stampc.refine.deadends import DeadEndProver
 from stampc.refine.graph import HORIZON, PolicyGraph
@@ -49,6 +50,26 @@ def test_a_solver_timeout_leaves_the_horizon_unchanged():
     assert engine.planner.timeouts >= 1
     notes = " | ".join(engine._notes)
     assert "solver timeout: retry with more time" in notes and "horizon kept at 1" in notes
+
+
+@pytest.mark.parametrize("prune", (0.0, 0.5))
+def test_a_capped_solve_is_continued_as_a_partial_solve(prune):
+    engine = engine_for(SHELF, horizon=8, solve_retries=1, timeout_prune_probability=prune)
+    engine.planner.solve_time_limit = 1e-9  # every solve is cut off at its first check
+    engine.planner.log = []
+    _, blocked, _ = _learned_shelf_states()
+    engine._graft_growing(PolicyGraph(-1, {}), blocked, 0, None)
+    first, retry = (entry[3].options.prune_probability for entry in engine.planner.log[:2])
+    assert (first, retry) == (0.0, prune)
+    assert ("left for later" in " | ".join(engine._notes)) == (prune > 0)
+
+
+def test_a_timeout_prune_probability_outside_zero_one_is_refused():
+    from stampc.refine import check_refine_options
+
+    with pytest.raises(StampcError) as err:
+        check_refine_options(RefineOptions(timeout_prune_probability=1.0))
+    assert {d.code for d in err.value.diagnostics} == {"R003"}
 
 
 def test_unplanned_tips_of_a_timed_out_solve_become_horizon_leaves():
