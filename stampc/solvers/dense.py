@@ -40,6 +40,10 @@ from stampc.solvers.product import Plan, expect, make_plan
 _NOOP = 1.0 - 1e-12
 
 
+#: Iterations without any progress of either bound before giving up (float noise).
+MAX_STALLED = 50
+
+
 class TooLarge(Exception):
     """The expectation plans would cost more than the work budget per sweep."""
 
@@ -197,9 +201,11 @@ def dense_solve(model: FactoredModel, dead_end_cost: float, target: float,
     u = np.zeros(model.n_states)
     lower, upper, sweeps, timed_out = 0.0, D, 0, False
     best = np.full(model.n_states, -1, dtype=np.int64)
+    stalled = 0
     while True:
         new, greedy, cost = _sweep(actions, u, goal, D)
         sweeps += 1
+        before = (lower, upper)
         lower = max(lower, _lower(u, new, goal, init, cmin))
         bound = _upper(actions, u, new, greedy, cost, goal, init, D)
         if bound <= upper:
@@ -209,9 +215,17 @@ def dense_solve(model: FactoredModel, dead_end_cost: float, target: float,
         if deadline is not None and time.perf_counter() > deadline:
             timed_out = True
             break
+        stalled = stalled + 1 if (lower, upper) == before else 0
+        if stalled >= MAX_STALLED:
+            break  # float noise: the bounds no longer move
         # value iteration first (cheap sweeps, a sensible first policy), then policy
-        # iteration: evaluate the greedy policy exactly and improve it
-        u = new if sweeps < first_sweeps else _evaluate(model, actions, greedy, u, D, deadline)
+        # iteration: evaluate the greedy policy exactly and improve it — but only a
+        # policy the bound certified (bound < D: proper wherever it acts); an improper
+        # one has no finite value and its linear system no meaningful solution
+        if sweeps < first_sweeps or bound >= D:
+            u = new
+        else:
+            u = _evaluate(model, actions, greedy, u, D, deadline)
     policy = np.full(model.n_states, -1, dtype=np.int64)
     for pos, action in enumerate(actions):
         mine = best[action.rows] == pos
