@@ -40,7 +40,7 @@ from stampc.solvers.product import Plan, expect, make_plan
 _NOOP = 1.0 - 1e-12
 
 
-#: Iterations without any progress of either bound before giving up (float noise).
+#: Iterations without progress (bounds and iterate unchanged) before giving up.
 MAX_STALLED = 50
 
 
@@ -50,11 +50,11 @@ class TooLarge(Exception):
 
 @dataclass(frozen=True)
 class DenseResult:
-    values: np.ndarray        # the last iterate (lower bounds on V*), per state index
+    values: np.ndarray        # the last iterate per state index (not itself a bound)
     policy: np.ndarray        # ground action index per state index, -1 = none/give up
     lower: float
     upper: float
-    goal_probability: float   # of the certified policy (a lower bound if cut short)
+    goal_probability: float   # of the certified policy (GMRES: approximate)
     sweeps: int
     certified: bool
     timed_out: bool
@@ -197,6 +197,10 @@ def dense_solve(model: FactoredModel, dead_end_cost: float, target: float,
     D = float(dead_end_cost)
     actions = _prepare(model, max_work)
     cmin = min([D] + [float(np.min(a.cost[a.usable])) for a in actions if np.any(a.usable)])
+    if cmin <= 0.0:
+        # zero-cost actions: the lower bound rests on value iteration from 0 alone (the
+        # δ bound needs c_min > 0), and no policy is certified proper: no policy iteration
+        first_sweeps = 1 << 62
     goal, init = model.goal, model.init
     u = np.zeros(model.n_states)
     lower, upper, sweeps, timed_out = 0.0, D, 0, False
@@ -215,9 +219,12 @@ def dense_solve(model: FactoredModel, dead_end_cost: float, target: float,
         if deadline is not None and time.perf_counter() > deadline:
             timed_out = True
             break
-        stalled = stalled + 1 if (lower, upper) == before else 0
+        # no progress: neither bound moved and the iterate is a fixed point up to float
+        # noise (value-iteration sweeps that still change far-away states do progress)
+        still = (lower, upper) == before and float(np.max(np.abs(new - u))) <= 1e-9 * D
+        stalled = stalled + 1 if still else 0
         if stalled >= MAX_STALLED:
-            break  # float noise: the bounds no longer move
+            break
         # value iteration first (cheap sweeps, a sensible first policy), then policy
         # iteration: evaluate the greedy policy exactly and improve it — but only a
         # policy the bound certified (bound < D: proper wherever it acts); an improper

@@ -6,11 +6,12 @@ from __future__ import annotations
 import dataclasses
 import json
 import random
+import time
 from fractions import Fraction
 
 import numpy as np
 import pytest
-from ssp_builders import ModelBuilder, reference_values
+from ssp_builders import ModelBuilder, reference_from_above, reference_values
 
 from stampc import api
 from stampc.cli import main
@@ -45,7 +46,8 @@ def test_expect_matches_enumeration():
         assert plan.stay[r] == pytest.approx(float(np.prod(np.where(own == 1, q[r], 1 - q[r]))))
 
 
-def random_product_model(seed: int, n_facts: int = 5, n_actions: int = 6) -> GroundModel:
+def random_product_model(seed: int, n_facts: int = 5, n_actions: int = 6,
+                         free_share: float = 0.0) -> GroundModel:
     """Random SSP whose every probabilistic block changes one fact: the product form,
     with `when` effects, add/delete conflicts and mini-gpt's delete-wins rule."""
     rng = random.Random(seed)
@@ -64,8 +66,9 @@ def random_product_model(seed: int, n_facts: int = 5, n_actions: int = 6) -> Gro
         effect = GEffect(add=b.mask(rng.sample(names, rng.randint(0, 1))),
                          delete=b.mask(rng.sample(names, rng.randint(0, 1))),
                          whens=tuple(whens), blocks=tuple(block() for _ in range(3)))
+        free = rng.random() < free_share  # a zero-cost action (its effects cost 1 at most)
         index = b.action(f"p{k}", rng.sample(names, rng.randint(0, 1)), effect=effect,
-                         cost=rng.randint(1, 3))
+                         cost=0 if free else rng.randint(1, 3))
         if rng.random() < 0.3:
             b.actions[index] = dataclasses.replace(b.actions[index], delete_wins=True)
     return b.build([n for n in names if rng.random() < 0.3], rng.sample(names, 2))
@@ -81,6 +84,17 @@ def test_dense_bounds_bracket_exact_value(first_sweeps):
         assert result.certified, seed
         assert result.lower - 1e-9 <= exact <= result.upper + 1e-9, (seed, result.lower,
                                                                      exact, result.upper)
+
+
+def test_zero_cost_actions_keep_the_bounds_valid():
+    # value iteration from 0 only (no policy iteration, no δ bound): still a bracket of
+    # the optimum where looping forever fails (the greatest fixed point below D)
+    for seed in range(30):
+        model = random_product_model(seed, free_share=0.5)
+        exact = reference_from_above(model, D)[model.init]
+        result = dense_solve(compile_factored(model, False), D, 1e-6,
+                             deadline=time.perf_counter() + 5)
+        assert result.lower - 1e-9 <= exact <= result.upper + 1e-9, seed
 
 
 def test_dense_agrees_with_lao_on_random_models():
