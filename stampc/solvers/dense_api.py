@@ -54,6 +54,13 @@ class DenseTable:
         k = self._index(state)
         return float("nan") if k is None else float(self.result.values[k])
 
+    def states(self, first: int) -> list[int]:
+        """Every state of the space, ``first`` first (the policy's exports list them all:
+        a superset of the policy graph, found without enumerating outcomes)."""
+        model = self.model
+        rest = [model.state(k) for k in range(model.n_states)]
+        return [first] + [s for s in rest if s != first]
+
 
 def solve_dense(model: GroundModel, options: SolverOptions, *, relative: bool = True,
                 init: int | None = None) -> tuple[Solution, DenseResult]:

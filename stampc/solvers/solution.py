@@ -38,6 +38,8 @@ class PolicyTable(Protocol):
 
     def value(self, state: int) -> float: ...
 
+    def states(self, first: int) -> list[int]: ...
+
 
 @dataclass(frozen=True)
 class Solution:
@@ -122,17 +124,6 @@ class Solution:
                 for x in self.search.policy_graph(space.node(self.init, 0))]
 
     def _table_policy_states(self) -> list[int]:
-        # a dense solution has no transition tables: enumerate the policy's outcomes
-        cache, order, seen = self.successors, [self.init], {self.init}
-        stack = [self.init]
-        while stack:
-            state = stack.pop()
-            action = None if cache.is_goal(state) else self.table.action(state)
-            if action is None:
-                continue
-            for _, nxt, _ in cache.float_outcomes(state, action):
-                if nxt not in seen:
-                    seen.add(nxt)
-                    order.append(nxt)
-                    stack.append(nxt)
-        return order
+        # a dense solution has no transition tables, and enumerating its outcomes is what
+        # it avoids (2^16 per state on SysAdmin p06): every state of its space, init first
+        return self.table.states(first=self.init)

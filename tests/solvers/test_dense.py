@@ -181,11 +181,17 @@ def test_simulation_of_a_dense_policy(ppddl_benchmarks):
     assert sim.cost_ci95[0] - 1.0 <= bounds.upper <= sim.cost_ci95[1] + 1.0
 
 
-def test_cli_dense_json_and_misfit(ppddl_benchmarks, capsys):
+def test_cli_dense_json_and_misfit(ppddl_benchmarks, capsys, tmp_path):
     path = ppddl_benchmarks / SYSADMIN / "p02-n5-l2-s2.pddl"
-    code = main(["solve", str(path), "--algorithm", "dense", "--unit-cost", "--format", "json"])
+    out = tmp_path / "policy.json"
+    code = main(["solve", str(path), "--algorithm", "dense", "--unit-cost", "--format", "json",
+                 "-o", str(out)])
     report = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert code == 0 and report["method"] == "dense" and report["certified"]
+    policy = json.loads(out.read_text())["policy"]
+    assert len(policy) == 32 and policy[0]["state"] == []  # every state, init first
+    assert sum(e["status"] == "goal" for e in policy) == 1
+    assert all(e["action"].startswith("reboot(") for e in policy if e["status"] == "act")
     assert report["lower_bound"] <= report["upper_bound"] <= report["lower_bound"] * (1 + 1e-4)
     other = ppddl_benchmarks / "ippc2008-blocksworld/p02.pddl"
     code = main(["solve", str(other), "--algorithm", "dense", "--unit-cost"])
