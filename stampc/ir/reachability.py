@@ -58,6 +58,7 @@ class _Explorer:
         self.max_depth = max_symbol_depth
         self.max_actions = max_actions
         self.n_actions = 0
+        self.counted: set[tuple[str, tuple[str, ...]]] = set()
         self.kb = FactBase()
         self.symbols: dict[str, Symbol] = {}
 
@@ -75,6 +76,13 @@ class _Explorer:
     def on_head(self, rule: Rule, head: tuple[str, ...], pending: list) -> None:
         pending.append((rule.head_rel, head))
         if rule.head_rel.startswith("@"):
+            # the fixpoint may derive one binding several times before it is stored (one
+            # rule per disjunct, one run per new body fact in the same round): count and
+            # instantiate it once (rectangle-tireworld p13 counted 816,844 bindings twice)
+            key = (rule.head_rel, head)
+            if key in self.counted:
+                return
+            self.counted.add(key)
             if rule.head_rel.startswith("@pre:"):
                 self._instantiate_generated(int(rule.head_rel[5:]), head, pending)
             self.n_actions += 1

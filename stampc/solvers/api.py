@@ -150,6 +150,9 @@ def solve(model: GroundModel, options: SolverOptions = SolverOptions(), *,
     as converged: the caller has its own criterion, e.g. a certified gap).
     """
     check_options(options)
+    if options.algorithm == "dense":  # every state at once (dense.py): no search tables
+        from stampc.solvers.dense_api import dense_or_error
+        return dense_or_error(model, options, init=init)[0]
     start = time.perf_counter()
     horizon = options.horizon if options.horizon is not None else model.horizon
     search = _make_search(model, options, horizon, warm, learned)

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 from stampc.ir.grounded import GroundModel
 from stampc.solvers.core import Search
+from stampc.solvers.dense_choice import auto_dense
 from stampc.solvers.fret import eliminate_traps, repair_policy
 from stampc.solvers.names import ADMISSIBLE
 from stampc.solvers.solution import Solution, SolverOptions
@@ -231,6 +232,27 @@ class GapCheck:
         return done
 
 
+def _try_dense(model: GroundModel, options: SolverOptions, relative: bool,
+               init: int | None) -> tuple[Solution, Bounds] | None:
+    """The dense solver's certified result when asked for (``algorithm="dense"``) or when
+    it applies automatically (``dense_api.auto_dense``); ``None``: use the search."""
+    if options.algorithm != "dense" and not (admissible(options) and auto_dense(model, options)):
+        return None
+    # numpy only when the dense solver runs (the CLI's light paths never load it)
+    from stampc.solvers.dense_api import NotFactored, TooLarge, dense_or_error, solve_dense
+    if options.algorithm == "dense":
+        solution, result = dense_or_error(model, options, relative=relative, init=init)
+    else:
+        try:
+            solution, result = solve_dense(model, options, relative=relative, init=init)
+        except (NotFactored, TooLarge):
+            return None  # the structure does not fit: LAO* as asked
+    return solution, Bounds(lower=result.lower, upper=result.upper,
+                            goal_probability=result.goal_probability, relative=relative,
+                            target=options.epsilon, rounds=result.sweeps,
+                            policy_states=int((result.policy >= 0).sum()))
+
+
 def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool = True,
                   init: int | None = None) -> tuple[Solution, Bounds]:
     """Solve, then tighten the residual until the certified gap meets ``options.epsilon``.
@@ -238,6 +260,9 @@ def solve_bounded(model: GroundModel, options: SolverOptions, *, relative: bool 
     above the target."""
     from stampc.solvers.api import solve
 
+    dense = _try_dense(model, options, relative, init)
+    if dense is not None:
+        return dense
     start = time.perf_counter()
     deadline = None if options.time_limit is None else start + options.time_limit
     lower_ok = admissible(options)

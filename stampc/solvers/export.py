@@ -48,6 +48,8 @@ def summary(solution: Solution) -> dict:
             "solve_time_s": solution.solve_time_s,
             "converged": solution.converged,
             "horizon": solution.horizon,
+            # the solver that ran: "dense" when solve_bounded chose it over LAO*
+            "method": "dense" if solution.table is not None else solution.options.algorithm,
             "options": {k: v for k, v in asdict(solution.options).items() if k != "forbidden"}}
 
 

@@ -64,6 +64,26 @@ def branches(effect: FloatEffect, state: int) -> list[tuple[float, int, int, flo
     return result
 
 
+def sample(effect: FloatEffect, state: int, rng) -> tuple[int, int, float]:
+    """One joint outcome (adds, deletes, cost) of ``effect`` in ``state``, drawn block by
+    block with ``rng.random()``: linear in the effect's size where :func:`branches`
+    would enumerate up to 2^blocks outcomes (SysAdmin p06: 2^16 per state)."""
+    add, delete, cost, whens, blocks = effect
+    for cond, sub in whens:
+        if _holds(cond, state):
+            a, d, c = sample(sub, state, rng)
+            add, delete, cost = add | a, delete | d, cost + c
+    for _, outcomes in blocks:
+        r, acc = rng.random(), 0.0
+        for p, sub in outcomes:
+            acc += p
+            if r < acc:
+                a, d, c = sample(sub, state, rng)
+                add, delete, cost = add | a, delete | d, cost + c
+                break
+    return add, delete, cost
+
+
 def condition_check(cond: GroundCondition) -> tuple[int, int, GroundCondition | None]:
     """(pos, neg, condition to call or None): ``state`` satisfies ``cond`` iff
     ``state & pos == pos``, ``not state & neg`` and the condition, if any, holds."""

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.ir.grounded import GroundModel
+from stampc.solvers.dense_choice import AUTO_MIN_BLOCKS, effect_blocks
 from stampc.solvers.solution import Solution
 
 _Z95 = 1.959963984540054
@@ -62,6 +63,11 @@ def _run(model: GroundModel, solution: Solution, rng: random.Random,
         action = solution.action(state, t)
         if action is None:
             return cost + penalty, False, t, False
+        if _explosive(model, action, memo):  # up to 2^blocks outcomes: draw block by block
+            state, c = cache.sample_outcome(state, action, rng)
+            cost += c
+            t += 1
+            continue
         # the solvers' float enumeration (the exact Fraction one is far slower on
         # conditional effects), once per (state, action): sysadmin p04 35 s -> 0.3 s
         outcomes = memo.get((state, action))
@@ -78,6 +84,13 @@ def _run(model: GroundModel, solution: Solution, rng: random.Random,
         _, state, c = chosen
         cost += c
         t += 1
+
+
+def _explosive(model: GroundModel, action: int, memo: dict) -> bool:
+    known = memo.get(action)
+    if known is None:
+        known = memo[action] = effect_blocks(model.actions[action].effect) >= AUTO_MIN_BLOCKS
+    return known
 
 
 def simulate(model: GroundModel, solution: Solution, *, runs: int, seed: int,

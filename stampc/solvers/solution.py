@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from stampc.solvers.core import Search
 from stampc.solvers.names import ALGORITHMS  # noqa: F401  (re-exported)
@@ -33,6 +34,17 @@ class SolverOptions:
     prune_probability: float = 0.0
 
 
+class PolicyTable(Protocol):
+    """A policy and values over a whole state space (``dense.py``'s solutions)."""
+    n_states: int
+
+    def action(self, state: int) -> int | None: ...
+
+    def value(self, state: int) -> float: ...
+
+    def states(self, first: int) -> list[int]: ...
+
+
 @dataclass(frozen=True)
 class Solution:
     init: int
@@ -46,6 +58,9 @@ class Solution:
     horizon: int | None = None
     #: The value tables; shared with warm re-solves (which copy before changing them).
     search: Search | None = field(default=None, compare=False, repr=False)
+    #: Set when a dense solver valued every state (``dense_api.py``): the policy and the
+    #: values come from it; ``search`` then only holds the successor cache.
+    table: PolicyTable | None = field(default=None, compare=False, repr=False)
 
     @property
     def successors(self) -> SuccessorCache:
@@ -54,6 +69,8 @@ class Solution:
 
     @property
     def states_generated(self) -> int:
+        if self.table is not None:
+            return self.table.n_states
         return len(self.search.V) if self.search else 0
 
     def _node(self, state: int, t: int) -> int:
@@ -64,6 +81,8 @@ class Solution:
         dead end, the horizon, or where giving up (cost D) is best."""
         if self.horizon is not None and t >= self.horizon:
             return None
+        if self.table is not None:
+            return self.table.action(state)
         search = self.search
         x = self._node(state, t)
         search.seed(x)
@@ -84,6 +103,8 @@ class Solution:
 
     def planned(self, state: int, t: int = 0) -> bool:
         """Did the search expand and back up ``(state, t)`` (or find it terminal)?"""
+        if self.table is not None:
+            return True
         x = self._node(state, t)
         return x in self.search.best or x in self.search.terminal
 
@@ -92,12 +113,21 @@ class Solution:
         search = self.search
         if self.horizon is not None and t >= self.horizon:
             return 0.0 if search.space.cache.is_goal(state) else search.dead_end_cost
+        if self.table is not None:
+            return self.table.value(state)
         x = self._node(state, t)
         search.seed(x)
         return search.V[x]
 
     def policy_nodes(self) -> list[tuple[int, int]]:
         """(state, t) pairs reachable from ``init`` under the policy, DFS preorder."""
+        if self.table is not None:
+            return [(s, 0) for s in self._table_policy_states()]
         space = self.search.space
         return [(space.state(x), space.time(x))
                 for x in self.search.policy_graph(space.node(self.init, 0))]
+
+    def _table_policy_states(self) -> list[int]:
+        # a dense solution has no transition tables, and enumerating its outcomes is what
+        # it avoids (2^16 per state on SysAdmin p06): every state of its space, init first
+        return self.table.states(first=self.init)

@@ -17,7 +17,7 @@ from typing import Sequence
 from stampc.ir.grounded import bits as iter_bits  # noqa: F401  (re-exported)
 from stampc.ir.grounded import GroundAction, GroundModel
 from stampc.ir.masks import FactSet, indices
-from stampc.solvers.float_effects import branches, compile_effect, condition_check
+from stampc.solvers.float_effects import branches, compile_effect, condition_check, sample
 
 #: A solver transition: (action index, expected cost, probabilities, next states).
 Transition = tuple[int, float, tuple[float, ...], tuple[int, ...]]
@@ -173,16 +173,32 @@ class SuccessorCache:
         close = self._close
         return outs if close is None else [(p, close(nxt), c) for p, nxt, c in outs]
 
+    def sample_outcome(self, state: int, action: int, rng) -> tuple[int, float]:
+        """(next state, cost) of one outcome drawn block by block (``float_effects.sample``),
+        without enumerating the joint outcomes."""
+        ground = self.model.actions[action]
+        add, delete, cost = sample(self._compiled_effect(action), state, rng)
+        if ground.delete_wins:  # mini-gpt's rule for facts an outcome adds and deletes
+            nxt = (state | add) & ~delete
+        else:
+            nxt = (state & ~delete) | add
+        base = 1.0 if self.unit_cost else float(ground.base_cost)
+        return (nxt if self._close is None else self._close(nxt)), base + cost
+
+    def _compiled_effect(self, action: int):
+        compiled = self._compiled.get(action)
+        if compiled is None:
+            compiled = self._compiled[action] = compile_effect(
+                self.model.actions[action].effect, self.unit_cost)
+        return compiled
+
     def _float_basic_outcomes(self, state: int, action: int):
         static = self._static[action]
         if static is _UNSET:
             static = self._static_of(action)
         if static is not None:
             return [(p, (state & keep) | add, c) for p, add, keep, c in static]
-        compiled = self._compiled.get(action)
-        if compiled is None:
-            compiled = self._compiled[action] = compile_effect(
-                self.model.actions[action].effect, self.unit_cost)
+        compiled = self._compiled_effect(action)
         ground = self.model.actions[action]
         base = 1.0 if self.unit_cost else float(ground.base_cost)
         if ground.delete_wins:  # mini-gpt's rule for facts an outcome adds and deletes

@@ -5,7 +5,7 @@ from __future__ import annotations
 from fractions import Fraction as F
 
 import pytest
-from ir_builders import AND, action, add, atom, model, params, pred
+from ir_builders import AND, OR, action, add, atom, model, params, pred
 
 from stampc.diagnostics import StampcError
 from stampc.ir import lifted as L
@@ -105,3 +105,17 @@ def test_too_many_actions_is_a_diagnostic_not_a_memory_blowup():
         ground(m, max_actions=399)
     (d,) = exc.value.diagnostics
     assert d.code == "G114" and d.span.file == "any.stamp" and "399" in d.message
+
+
+def test_a_binding_derived_twice_counts_once_toward_max_actions():
+    # each binding satisfies both disjuncts, so the fixpoint derives it twice (two rules);
+    # 400 bindings fit a limit of 400 (they were counted as 800)
+    objs = [f"o{i}" for i in range(20)]
+    m = model(types=(L.Type("n"),), preds=(pred("p", "n"), pred("q", "n"), pred("r", "n", "n")),
+              actions=(action("any", params(("a", "n"), ("b", "n")),
+                              OR(atom("p", "?a"), atom("q", "?a")), add("r", "?a", "?b")),),
+              objs=" ".join(objs) + " - n",
+              init=tuple(atom(k, o) for o in objs for k in ("p", "q")))
+    assert len(ground(m, max_actions=400).actions) == 400
+    with pytest.raises(StampcError):
+        ground(m, max_actions=399)
