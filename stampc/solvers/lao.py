@@ -62,14 +62,15 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
             bi = best.get(x, -1)
             if bi >= 0:
                 _, _, probs, nexts = expanded[x][bi]
-                rx = reach[x] if prune else 1.0
-                for p, n in zip(probs, nexts):
+                if prune:  # kept out of the plain loop: this is the solver's hottest walk
+                    rx = reach[x]
+                    for p, n in zip(probs, nexts):
+                        reach.setdefault(n, rx * p)  # first visit, as ``visited`` below
+                for n in nexts:
                     if n not in visited:
                         visited.add(n)
                         if n not in terminal:
                             stack.append(n)
-                            if prune:
-                                reach[n] = rx * p
         search.check_time()
         if expansions == 0 and not changed and residual < epsilon:
             return
