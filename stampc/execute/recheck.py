@@ -3,8 +3,10 @@ against the objects' current concrete poses, with what is held attached, at 10×
 planning resolution. Each contact outside the task's own (the hand at its target, a
 held object on its support while lifting or setting down) counts as a collision.
 
-* PyBullet arm paths: every ``PLAN_RESOLUTION / 10`` rad (0.005 rad), with the same
-  stretch rules as planning (:func:`stampc.worlds.pybullet.planning.bad_bodies`);
+* PyBullet arm paths: every ``CHECK_RESOLUTION`` rad (``PLAN_RESOLUTION / 10``, 0.005
+  rad: the configurations refinement's final check tested, now in the state execution
+  reached), with the same stretch rules as planning
+  (:func:`stampc.worlds.pybullet.planning.bad_bodies`);
 * PyBullet UAV flights: every ``FLY_RESOLUTION / 10`` m (5 mm);
 * plane2d: the swept discs of the gripper (and held object) or the UAV along the
   polyline, densified 10× (the test per segment is exact).
@@ -51,7 +53,7 @@ def pybullet_recheck(world: Any, action: Any) -> list[str]:
 
 
 def _arm_hits(world: Any, traj: Any) -> set[str]:
-    from stampc.worlds.pybullet.planning import PLAN_RESOLUTION, bad_bodies, stretches
+    from stampc.worlds.pybullet.planning import CHECK_RESOLUTION, bad_bodies, stretches
     from stampc.worlds.pybullet.values import interpolate
 
     if traj.robot is not None and traj.robot in world.arms:
@@ -60,7 +62,7 @@ def _arm_hits(world: Any, traj: Any) -> set[str]:
     hit: set[int] = set()
     try:
         for kind, a, b in stretches(traj) or [("middle", traj.start, traj.start)]:
-            for q in interpolate(a, b, PLAN_RESOLUTION / REFINE):
+            for q in interpolate(a, b, CHECK_RESOLUTION):
                 hit |= bad_bodies(world, q, kind, state.held, traj.target, traj.released)
     finally:
         world.set_arm(state.q)

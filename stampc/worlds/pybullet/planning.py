@@ -25,10 +25,11 @@ from stampc.worlds.pybullet.values import Config, Traj, interpolate
 from stampc.worlds.pybullet.world import PyBulletWorld
 
 PLAN_RESOLUTION = 0.05  # rad: OMPL's longest valid segment
-#: rad: the final check of a trajectory and the ``collision`` evaluator's sweeps. It is
-#: the resolution ``stampc execute`` re-checks at (PLAN_RESOLUTION / 10): a graze thinner
-#: than a coarser spacing passed refinement and failed execution (0.13 mm, cluttered-15
-#: seed 3), so a refined trajectory is now clear at every configuration execution tests.
+#: rad: the final check of a trajectory, the ``collision`` evaluator's sweeps and
+#: ``stampc execute``'s re-check (10× the planning resolution, as in every world): a
+#: graze thinner than a coarser final check passed refinement and failed execution
+#: (0.13 mm, cluttered-15 seed 3); a refined trajectory is now clear at every
+#: configuration execution tests.
 CHECK_RESOLUTION = PLAN_RESOLUTION / 10
 #: OMPL geometric planners selectable with the ``planner`` option
 PLANNERS = ("RRTConnect", "RRT", "KPIECE1", "BKPIECE1", "LBKPIECE1", "PRM", "RRTstar",
