@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -39,9 +40,13 @@ class DenseTable:
     def n_states(self) -> int:
         return self.model.n_states
 
+    @cached_property
+    def _varying(self) -> int:
+        return sum(1 << f for f in self.model.facts)
+
     def _index(self, state: int) -> int | None:
-        varying = sum(1 << f for f in self.model.facts)
-        return None if state & ~varying != self.model.base else self.model.index(state)
+        # once per policy lookup (every simulated step): the mask is computed once
+        return None if state & ~self._varying != self.model.base else self.model.index(state)
 
     def action(self, state: int) -> int | None:
         k = self._index(state)
