@@ -109,15 +109,16 @@ def _child_env() -> dict[str, str]:
 
 
 def _run_with_deadline(cmd: list[str], deadline_s: float) -> tuple[int, str, bool]:
-    """Run ``cmd``; past the deadline send SIGINT (stampc then writes the best policy
-    so far) and kill it 30 s later. Returns (exit code, stderr, killed)."""
+    """Run ``cmd``; past the deadline send SIGTERM (stampc refine then stops as on
+    Ctrl-C and writes the best policy so far; SIGINT would be ignored when the bench runs
+    in the background of a script) and kill it 30 s later. Returns (exit code, stderr, killed)."""
     proc = subprocess.Popen(cmd, cwd=REPO, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True, env=_child_env())
     try:
         _, err = proc.communicate(timeout=deadline_s)
         return proc.returncode, err, False
     except subprocess.TimeoutExpired:
-        proc.send_signal(signal.SIGINT)
+        proc.send_signal(signal.SIGTERM)
     try:
         _, err = proc.communicate(timeout=30.0)
         return proc.returncode, err, False

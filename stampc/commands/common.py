@@ -5,10 +5,13 @@ from __future__ import annotations
 import argparse
 import ast
 import functools
+import contextlib
 import math
+import signal
 import sys
+import threading
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 from stampc.diagnostics import SourceCache, StampcError, render_human, sort_key, summary_line
 
@@ -165,3 +168,22 @@ def print_warnings(diags) -> None:
     sources = SourceCache()
     for d in sorted(diags, key=sort_key):
         print(render_human(d, sources), file=sys.stderr)
+
+
+@contextlib.contextmanager
+def sigterm_as_interrupt() -> Iterator[None]:
+    """Within the block SIGTERM stops the run like Ctrl-C (KeyboardInterrupt), so that
+    anytime commands write what they have. A job started in the background of a script
+    ignores SIGINT, so supervisors (bench/paper.py) stop runs with SIGTERM instead."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -9,7 +9,8 @@ from pathlib import Path
 from stampc.commands.common import (EXIT_DONE, EXIT_INPUT, EXIT_STOPPED_SHORT, EXIT_USAGE,
                                     add_input_arguments, count, heuristic_weight,
                                     parse_scene_args, positive_float, positive_int, probability,
-                                    prune_probability, reports_errors, target_coverage)
+                                    prune_probability, reports_errors, sigterm_as_interrupt,
+                                    target_coverage)
 
 HELP = "refine an abstract policy with concrete motions (ATM-MDP), anytime"
 
@@ -79,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability
                              is None else args.prune_probability))
     # bad input (StampcError, exit 1) and unreadable files (OSError, 2): reports_errors
-    with _progress(args.quiet) as on_event:
+    with sigterm_as_interrupt(), _progress(args.quiet) as on_event:
         run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,
                                  scene_overrides=overrides, verbose=args.verbose,
                                  workers=args.workers, ray=args.ray)
