@@ -94,6 +94,18 @@ class Concretizer:
         self.evaluations += 1
         return result
 
+    def symbol_args(self, fact: int) -> tuple[str, ...]:
+        """The fact's arguments that are continuous symbols (bound to concrete values)."""
+        return tuple(a for a in self.model.facts[fact].args if a in self._symbols)
+
+    def evaluate_at(self, concrete: Any, fact: int, values: Mapping[str, Any], *,
+                    node_uid: int, attempt: int) -> bool | None:
+        """The fact's evaluator in the concrete state ``concrete`` (a node's
+        ``Concrete``); None when it cannot be decided there."""
+        self.world.restore(concrete.snapshot)
+        ctx = self._context(concrete.cache, values, node_uid, attempt, -1)
+        return self._evaluate(ctx, fact, values)
+
     def violations(self, ctx: Context, action: GroundAction,
                    values: Mapping[str, Any]) -> list[tuple[int, bool]]:
         out = []

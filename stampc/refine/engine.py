@@ -36,6 +36,7 @@ from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, Policy
                                  abstract_goal_probability, path_values, select_path)
 from stampc.refine.options import ProgressEvent, RefineOptions
 from stampc.refine.planner import AbstractPlanner
+from stampc.refine.recall import FactMemory
 from stampc.refine.reporting import THRESHOLDS, Reporting
 from stampc.worlds.bindings import ResolvedBindings
 
@@ -52,6 +53,7 @@ class Engine(Backtracking, Reporting):
         self.planner.max_retries = options.solve_retries
         self.planner.timeout_prune = options.timeout_prune_probability
         self.concretizer = Concretizer(model, bindings, world, options.seed)
+        self.memory = FactMemory(self.concretizer)
         self.initial_values = dict(world.initial_values())
         self.prg = nx.DiGraph()
         self.current = 0
@@ -247,7 +249,7 @@ class Engine(Backtracking, Reporting):
             self._worked.add(node.action)
             self._track(self.current, graph)
             return "refined", action.label
-        return self._on_failure(graph, path, result)
+        return self._on_failure(graph, path, result, values)
 
     def _commit(self, graph: PolicyGraph, node: Node, sigma, values,
                 snapshots: list | None = None) -> bool:
@@ -300,10 +302,12 @@ class Engine(Backtracking, Reporting):
         return None
 
     def _on_failure(self, graph: PolicyGraph, path: tuple[int, ...],
-                    failure: Failure) -> tuple[str, str]:
+                    failure: Failure, values) -> tuple[str, str]:
         node = graph[path[-1]]
         if failure.violated:
-            return self._update(graph, node, failure.violated, "update", path)
+            self.memory.remember(failure.violated, values, failure.sigma)
+            recalled = self._recall(node, failure.violated, values)
+            return self._update(graph, node, failure.violated, "update", path, recalled)
         node.attempts += 1
         if self.rng.random() < self.options.explore_probability:
             # explore (Thm. 2's completeness): either revise an earlier choice — re-sample
@@ -325,24 +329,38 @@ class Engine(Backtracking, Reporting):
         self._ban_everywhere_if_hopeless(node.action, node.state)
         return self._update(graph, node, (), "ban", path)
 
-    def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
-                path: tuple[int, ...] = ()) -> tuple[str, str]:
-        """UpdateAbstraction: write the true facts at ``node``, replan below it (new PRG node)."""
+    def _recall(self, node: Node, learned, values) -> tuple[tuple[int, bool], ...]:
+        """Facts learned elsewhere that hold at ``node`` too (recall.py)."""
+        if not self.options.recall_learned or node.concrete is None:
+            return ()
         state = node.state
         for fact, value in learned:
+            state = state | (1 << fact) if value else state & ~(1 << fact)
+        return self.memory.recall(state, node.concrete, values, node_uid=node.uid,
+                                  attempt=node.attempts)
+
+    def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
+                path: tuple[int, ...] = (), recalled=()) -> tuple[str, str]:
+        """UpdateAbstraction: write the true facts at ``node`` (``learned`` there, and
+        ``recalled`` from elsewhere), replan below it (new PRG node)."""
+        written = tuple(learned) + tuple(recalled)
+        state = node.state
+        for fact, value in written:
             state = state | (1 << fact) if value else state & ~(1 << fact)
         state = self.model.axioms.close(state)  # derived facts follow the learned ones
         forced = None
         if kind == "explore" or self.rng.random() < self.options.explore_probability:
             forced = self.planner.random_action(state, self.rng, exclude=node.action)
             kind = "explore" if forced is not None else kind
-        masks = (sum(1 << f for f, v in learned if v), sum(1 << f for f, v in learned if not v))
+        masks = (sum(1 << f for f, v in written if v), sum(1 << f for f, v in written if not v))
         new_graph = self._replanned(graph, node.uid, state, forced,
                                     masks if any(masks) else None)
-        new_graph[node.uid].learned = node.learned + tuple(learned)
+        new_graph[node.uid].learned = node.learned + written
         # learned facts that leave no way to the goal below this node most likely come
         # from an unlucky sample: backtrack rather than accept a dead end
         failed = not has_way(new_graph, node.uid)
+        if failed and recalled:  # recalled facts never decide a dead end: without them
+            return self._update(graph, node, learned, kind, path)
         if failed and self._bans_everywhere():
             # the choice that led here (which arm took the plank) may lie above: replan
             # there without the banned actions before giving them up
@@ -352,7 +370,9 @@ class Engine(Backtracking, Reporting):
             self._lift_bans_everywhere()
             return self._update(graph, node, learned, kind, path)
         facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
+        others = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in recalled]
         v = self._add_prg_node(new_graph, node.uid, failed, failed_preconditions=facts,
+                               recalled=others,
                                concretization=sorted(map(str, (node.sigma or {}).keys())))
         if failed:
             # UpdateAbstraction cannot help: revise an earlier choice on the path first
@@ -364,7 +384,8 @@ class Engine(Backtracking, Reporting):
             return self._backtrack(node.uid)
         self.current = v
         self._track(v, new_graph)
-        return kind, ", ".join(facts) or "action banned"
+        detail = ", ".join(facts) or "action banned"
+        return kind, detail + (f" (+{len(others)} recalled)" if others else "")
 
     @staticmethod
     def _adopt(graph: PolicyGraph, target: Node, source: Node) -> None:

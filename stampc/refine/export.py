@@ -217,7 +217,7 @@ def summary_json(result: RefineResult, meta: Mapping[str, Any],
             "refined_nodes": result.refined_nodes, "abstract_solves": result.abstract_solves,
             "goal_mass": result.goal_mass, "dead_end_mass": result.dead_end_mass,
             "unrefined_mass": result.unrefined_mass, "solver_timeouts": result.solver_timeouts,
-            "resamples": result.resamples,
+            "resamples": result.resamples, "recalled_facts": result.recalled_facts,
             "seed": result.seed, "stop_reason": result.stop_reason,
             **({"parallel": result.parallel} if result.parallel is not None else {})}
 

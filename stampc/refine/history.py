@@ -3,7 +3,9 @@
 Each PRG node is a policy; each PRG edge one revision of it: an UpdateAbstraction (true
 facts written at a policy node, the policy replanned below it) or a re-sample of an
 ancestor's generator values. ``stampc view`` shows this as the "PRG history": which
-updates happened, at which policy node, and when. The time of a revision is that of the
+updates happened, at which policy node, and when. An update's ``facts`` were learned
+at its node; its ``recalled`` facts (when any) were learned elsewhere and re-evaluated
+there (stampc/refine/recall.py). The time of a revision is that of the
 first progress event that counted its PRG node (events carry the PRG size).
 """
 
@@ -28,6 +30,7 @@ def prg_history(prg: nx.DiGraph, events: Sequence[ProgressEvent], best: int) -> 
         revisions.append({
             "from": u, "to": v, "kind": data.get("kind", "update"), "node": data.get("node"),
             "facts": list(data.get("failed_preconditions", [])),
+            **({"recalled": list(data["recalled"])} if data.get("recalled") else {}),
             "concretization": list(data.get("concretization", [])),
             **({"failed_node": data["failed_node"]} if "failed_node" in data else {}),
             "failed": bool(prg.nodes[v].get("failed")), "time_s": created.get(v)})

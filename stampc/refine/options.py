@@ -60,6 +60,9 @@ class RefineOptions:
     #: backtracking over refined ancestors (Alg. 1): how often one node's generator
     #: values may be re-drawn because an action below it found no usable sample
     max_resamples: int = 3
+    #: UpdateAbstraction also writes back facts learned elsewhere in the run that still
+    #: hold in the node's concrete state (re-evaluated there; stampc/refine/recall.py)
+    recall_learned: bool = True
     #: The abstract solver used for every (re)plan: LAO* with h_add — inadmissible, but
     #: its strong guidance keeps the hundreds of re-solves of a run fast (a 25-can state
     #: with two learned obstructions: 13 expansions, where h_max needs ~2,400); the policy
@@ -142,5 +145,7 @@ class RefineResult:
     #: abstract solves that hit their time cap; generator values re-drawn by backtracking
     solver_timeouts: int = 0
     resamples: int = 0
+    #: facts learned elsewhere and written back at UpdateAbstraction (recall.py)
+    recalled_facts: int = 0
     #: counters of a parallel run (``--workers N``, N > 1; ``stampc.refine.parallel``)
     parallel: dict | None = None

@@ -16,6 +16,7 @@ if TYPE_CHECKING:
 
     from stampc.refine.options import RefineOptions
     from stampc.refine.planner import AbstractPlanner
+    from stampc.refine.recall import FactMemory
 
 THRESHOLDS = (0.5, 0.8, 0.9, 1.0)
 
@@ -31,6 +32,7 @@ class Reporting:
     events: list[ProgressEvent]
     stop_reason: str
     resamples: int
+    memory: "FactMemory"
     _notes: list[str]
 
     #: the engine's clock (``Engine.elapsed``)
@@ -56,7 +58,8 @@ class Reporting:
             stop_reason=self.stop_reason if self.stop_reason != "running" else "interrupted",
             events=tuple(self.events),
             goal_mass=goal, dead_end_mass=dead, unrefined_mass=max(0.0, 1.0 - goal - dead),
-            solver_timeouts=self.planner.timeouts, resamples=self.resamples)
+            solver_timeouts=self.planner.timeouts, resamples=self.resamples,
+            recalled_facts=self.memory.recalled)
 
 
     def _track(self, prg_node: int, graph: PolicyGraph) -> None:
