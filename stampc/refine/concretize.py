@@ -94,6 +94,17 @@ class Concretizer:
         self.evaluations += 1
         return result
 
+    def sampled_checks(self) -> frozenset[int]:
+        """Facts checked by some action about a symbol that action samples itself (a
+        ``collision`` with the trajectory it plans): a value bound earlier on the path
+        says nothing about the action's own fresh sample."""
+        out = set()
+        for action in self.model.actions:
+            outputs = {name for use in action.generated for name in use.outputs}
+            out.update(fact for fact, _ in self.checks(action)
+                       if outputs.intersection(self.model.facts[fact].args))
+        return frozenset(out)
+
     def symbol_args(self, fact: int) -> tuple[str, ...]:
         """The fact's arguments that are continuous symbols (bound to concrete values)."""
         return tuple(a for a in self.model.facts[fact].args if a in self._symbols)

@@ -52,6 +52,7 @@ class Engine(Backtracking, Reporting):
         self.planner = AbstractPlanner(model, options.solver, self.uids, options.fallback_solver)
         self.planner.max_retries = options.solve_retries
         self.planner.timeout_prune = options.timeout_prune_probability
+        self.planner.warm_state_limit = options.warm_state_limit
         self.concretizer = Concretizer(model, bindings, world, options.seed)
         self.memory = FactMemory(self.concretizer)
         self.initial_values = dict(world.initial_values())
@@ -305,7 +306,7 @@ class Engine(Backtracking, Reporting):
                     failure: Failure, values) -> tuple[str, str]:
         node = graph[path[-1]]
         if failure.violated:
-            self.memory.remember(failure.violated, values, failure.sigma)
+            self.memory.remember(failure.violated)
             recalled = self._recall(node, failure.violated, values)
             return self._update(graph, node, failure.violated, "update", path, recalled)
         node.attempts += 1

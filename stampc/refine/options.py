@@ -60,6 +60,9 @@ class RefineOptions:
     #: backtracking over refined ancestors (Alg. 1): how often one node's generator
     #: values may be re-drawn because an action below it found no usable sample
     max_resamples: int = 3
+    #: memory bound of the abstract solver's warm tables (states): a re-solve whose
+    #: previous tables hold more starts cold (≈2.5 KB per state on the cluttered table)
+    warm_state_limit: int | None = 400_000
     #: UpdateAbstraction also writes back facts learned elsewhere in the run that still
     #: hold in the node's concrete state (re-evaluated there; stampc/refine/recall.py)
     recall_learned: bool = True
@@ -98,6 +101,9 @@ def check_refine_options(options: RefineOptions) -> None:
     if options.ban_everywhere_after < 0:
         problems.append(error("R003", "ban_everywhere_after must be 0 (off) or positive, "
                               f"got {options.ban_everywhere_after}", span))
+    if options.warm_state_limit is not None and options.warm_state_limit < 1:
+        problems.append(error("R003", "warm_state_limit must be positive or None, got "
+                              f"{options.warm_state_limit}", span))
     if options.horizon is not None and options.horizon < 1:
         problems.append(error("R003", f"horizon must be at least 1, got {options.horizon}",
                               span))

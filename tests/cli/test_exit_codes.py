@@ -105,7 +105,8 @@ def test_unreachable_goal_is_an_input_error(tmp_path, capsys):
 
 @pytest.mark.parametrize("options", [{"time_limit": 0}, {"time_limit": -5},
                                      {"time_limit": float("nan")}, {"target_coverage": 0},
-                                     {"explore_probability": 2}, {"horizon": 0}])
+                                     {"explore_probability": 2}, {"horizon": 0},
+                                     {"warm_state_limit": 0}])
 def test_the_api_refuses_the_limits_the_cli_refuses(options):
     import stampc
     from stampc.diagnostics import StampcError

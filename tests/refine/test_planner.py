@@ -130,6 +130,27 @@ def test_incremental_resolve_reuses_the_previous_solution():
     assert state | learned not in previous.search.expanded
 
 
+@pytest.mark.parametrize("limit", (None, 1))
+def test_warm_tables_past_their_state_limit_are_dropped(limit):
+    """The engine's re-solves reuse the previous tables unless they hold more states than
+    ``warm_state_limit``: then the re-solve starts cold (bounded memory over long runs)
+    and still finds the same policy value."""
+    gm, state, learned = _learned_shelf_states()
+    model = stampc.load_model(SHELF)
+    world = open_world("plane2d", load_scene(model.problem, SHELF[-1].parent), seed=0)
+    engine = Engine(gm, world, resolve_model(model, world.package),
+                    RefineOptions(warm_state_limit=limit))
+    planner = engine.planner
+    first = planner.solve_from(state)
+    second = planner.solve_from(state | learned, (learned, 0))
+    cold = solve(gm, SolverOptions(heuristic="hadd"), init=state | learned)
+    assert second.value(state | learned) == pytest.approx(cold.value(state | learned))
+    assert planner.cold_starts == (1 if limit == 1 else 0)
+    assert (second.search.space.transferred == 0) == (limit == 1)
+    assert len(first.search.V) > 1
+    assert any("warm tables dropped" in n for n in planner.notes) == (limit == 1)
+
+
 def test_dead_ends_are_proven_by_reachability_not_by_the_solver():
     gm = stampc.ground(stampc.load_model(SHELF))
     prover = DeadEndProver(gm)

@@ -49,7 +49,7 @@ def test_only_remembered_facts_that_hold_here_are_recalled(cluttered15):
     assert set(truth.values()) == {True, False}, "the scene has reachable and unreachable cans"
     concrete = Concrete(engine.world.snapshot(), None)
     memory = FactMemory(engine.concretizer)
-    memory.remember([(f, False) for f in truth], engine.initial_values, {})  # "none reachable"
+    memory.remember([(f, False) for f in truth])  # "none reachable"
     optimistic = sum(1 << f for f in truth)  # the abstraction assumes every grasp reachable
     recalled = memory.recall(optimistic, concrete, engine.initial_values, node_uid=1, attempt=0)
     assert dict(recalled) == {f: False for f, holds in truth.items() if not holds}
@@ -74,7 +74,7 @@ def test_a_recalled_fact_follows_its_can(cluttered15):
     there = next(facts[f].args[2] for f, holds in truth.items()
                  if holds and facts[f].args[0] == b and facts[f].args[1] != o)
     memory = FactMemory(engine.concretizer)
-    memory.remember([(unreachable, False)], engine.initial_values, {})
+    memory.remember([(unreachable, False)])
     moved = {**engine.initial_values, p: engine.initial_values[there]}
     concrete = Concrete(engine.world.snapshot(), None)
     state = 1 << unreachable
@@ -84,29 +84,38 @@ def test_a_recalled_fact_follows_its_can(cluttered15):
     assert at_new == ()
 
 
-def test_recalling_run_is_executed_cleanly_by_the_world(cluttered15, tmp_path):
-    """Cluttered-15 seed 6 with recall: facts learned in one branch are written back in
-    others (each recalled fact was learned at an earlier revision), and the policy still
-    passes ``stampc execute``: outcomes sampled by the world, every trajectory re-swept,
-    the goal tested on the concrete state."""
-    from stampc.execute.session import execute_file
+def test_facts_about_values_unbound_at_the_node_are_not_recalled(cluttered15):
+    """A fact about a symbol the node's path does not bind (a trajectory still to be
+    sampled there) is not evaluated with a value sampled elsewhere."""
+    _, engine = cluttered15
+    truth = _grasps_from_each_base(engine)
+    unreachable = next(f for f, holds in truth.items() if not holds)
+    symbol = engine.model.facts[unreachable].args[2]
+    unbound = {k: v for k, v in engine.initial_values.items() if k != symbol}
+    memory = FactMemory(engine.concretizer)
+    memory.remember([(unreachable, False)])
+    concrete = Concrete(engine.world.snapshot(), None)
+    state = 1 << unreachable
+    assert memory.recall(state, concrete, unbound, node_uid=1, attempt=0) == ()
+    assert memory.evaluations == 0
+    assert memory.recall(state, concrete, engine.initial_values, node_uid=1,
+                         attempt=0) == ((unreachable, False),)
 
-    problem, _ = cluttered15
-    run = stampc.refine_policy([DOMAIN, problem], world="pybullet",
-                               options=RefineOptions(seed=6, time_limit=120,
-                                                     target_coverage=0.999))
-    assert run.result.coverage >= 0.999
-    assert run.result.recalled_facts > 0
-    learned_before: set[str] = set()
-    recalled = 0
-    for revision in run.history["revisions"]:
-        for fact in revision.get("recalled", []):
-            assert fact in learned_before, f"{fact} recalled before it was learned anywhere"
-            recalled += 1
-        learned_before.update(revision["facts"])
-    assert recalled == run.result.recalled_facts
-    path = tmp_path / "policy.json"
-    path.write_text(json.dumps(run.to_json()))
-    report = execute_file(path, runs=20, seed=1)
-    assert report.collisions == 0 and report.goal_failures == 0
-    assert report.count("success") == 20
+
+def test_facts_about_the_checking_actions_own_sample_are_not_remembered(cluttered15):
+    """``collision(o, t)`` is checked by the action that plans ``t``: a trajectory bound
+    elsewhere says nothing about the motion it will plan, so such facts are not recalled;
+    the reach of a grasp at a bound pose is."""
+    _, engine = cluttered15
+    facts = engine.model.facts
+    sampled = engine.concretizer.sampled_checks()
+    collisions = {i for i, f in enumerate(facts) if f.predicate == "collision"}
+    reaches = set(_grasps_from_each_base(engine))
+    assert sampled & collisions and not sampled & reaches
+    fact = next(iter(sampled & collisions))
+    memory = FactMemory(engine.concretizer)
+    memory.remember([(fact, True)])
+    values = {**engine.initial_values, **{a: None for a in facts[fact].args}}  # all bound
+    concrete = Concrete(engine.world.snapshot(), None)
+    assert memory.recall(0, concrete, values, node_uid=1, attempt=0) == ()
+    assert memory.evaluations == 0
