@@ -66,8 +66,9 @@ class RunRecord:
     cls: str
     run: int
     seed: int
-    #: "solved" | "partial" | "gave-up" | "timeout" | "error" | "exec-failed" (refined to
-    #: the target, but an execution in the world failed, collided or missed the goal)
+    #: "solved" | "partial" | "gave-up" | "timeout" | "error" | "exec-failed" (an
+    #: execution in the world failed, collided or missed the goal: of a policy refined to
+    #: the target, or in the refined part of a partial one)
     status: str
     coverage: float = 0.0
     goal_probability: float = 0.0
@@ -82,8 +83,8 @@ class RunRecord:
     given_up: float | None = None  # goal mass given up (None: the engine has no split)
     instance: str = ""
     detail: str = ""
-    #: ``stampc execute`` of the solved policy: runs, success, failure, collisions,
-    #: goal_failures, unrefined, seconds (empty: not executed)
+    #: ``stampc execute`` of the policy (solved, or partial with coverage > 0): runs,
+    #: success, failure, collisions, goal_failures, unrefined, seconds (empty: not executed)
     execution: dict[str, float] = field(default_factory=dict)
 
     @property
@@ -204,9 +205,11 @@ def run_job(job: Job) -> RunRecord:
     else:
         status = "solved" if process_s <= job.timeout_s else "timeout"
     execution: dict[str, float] = {}
-    if status == "solved" and job.execute_runs > 0:
+    if job.execute_runs > 0 and (status == "solved" or coverage > 0.0):
+        # a partial policy is executed too: what it refined must work in the world (runs
+        # that reach its unrefined part are counted apart); a solved policy must be clean
         execution = execute(result / "policy.json", job.execute_runs, job.seed)
-        if not execution.get("clean"):
+        if not execution.get("clean" if status == "solved" else "refined_clean"):
             status = "exec-failed"
     return RunRecord(**base, status=status, coverage=coverage, execution=execution,
                      goal_probability=float(summary["goal_probability"]), process_s=process_s,
@@ -231,9 +234,11 @@ def execute(policy: Path, runs: int, seed: int) -> dict[str, float]:
         return {"runs": runs, "error": 1, "clean": 0, "seconds": seconds}
     out = {k: data.get(k, 0) for k in ("runs", "success", "failure", "dead_end", "unrefined",
                                        "collisions", "goal_check_failures")}
-    clean = (proc.returncode == 0 and not out["failure"] and not out["collisions"]
-             and not out["goal_check_failures"] and not out["unrefined"])
-    return {**out, "clean": int(clean), "seconds": seconds}
+    refined_clean = (proc.returncode in (0, 3) and not out["failure"]
+                     and not out["collisions"] and not out["goal_check_failures"])
+    clean = refined_clean and proc.returncode == 0 and not out["unrefined"]
+    return {**out, "clean": int(clean), "refined_clean": int(refined_clean),
+            "seconds": seconds}
 
 
 def _anytime(records: list[RunRecord], out: Path, path: Path) -> None:
@@ -326,8 +331,9 @@ def main(argv: list[str] | None = None) -> int:
                     help="further stampc refine arguments for every run, e.g. "
                          "'--ban-everywhere-after 3'")
     ap.add_argument("--execute", type=int, default=EXECUTE_RUNS, metavar="N",
-                    help="stampc execute runs of each solved policy; a failure, collision or "
-                         f"missed goal makes the run 'exec-failed' (default {EXECUTE_RUNS}; "
+                    help="stampc execute runs of each solved or partial policy; a failure, "
+                         "collision or missed goal (in a partial policy: in its refined "
+                         f"part) makes the run 'exec-failed' (default {EXECUTE_RUNS}; "
                          "0: none)")
     args = ap.parse_args(argv)
     if args.report:  # an explicit --execute N also executes runs recorded without one

@@ -30,12 +30,19 @@ def _rows(records: list[Any], cls: Any) -> list[Any]:
 
 
 def executed(records: list[Any]) -> str:
-    """``success/runs, collisions`` over the executions of ``records``' policies."""
-    ex = [r.execution for r in records if r.execution]
-    if not ex:
-        return "—"
-    return (f"{sum(int(e.get('success', 0)) for e in ex)}/{sum(int(e.get('runs', 0)) for e in ex)}"
-            f", {sum(int(e.get('collisions', 0)) for e in ex)} coll.")
+    """``success/runs, collisions`` over the executions of ``records``' policies refined to
+    the target; then the collisions in the executions of partial policies, if any ran."""
+    full = [r.execution for r in records if r.execution and r.coverage >= 0.999]
+    part = [r.execution for r in records if r.execution and r.coverage < 0.999]
+    text = "—"
+    if full:
+        text = (f"{sum(int(e.get('success', 0)) for e in full)}/"
+                f"{sum(int(e.get('runs', 0)) for e in full)}, "
+                f"{sum(int(e.get('collisions', 0)) for e in full)} coll.")
+    if part:
+        text += (f"; partial: {sum(int(e.get('collisions', 0)) for e in part)} coll. in "
+                 f"{sum(int(e.get('runs', 0)) for e in part)}")
+    return text
 
 
 def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:

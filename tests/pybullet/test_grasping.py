@@ -150,10 +150,16 @@ def test_placement_uses_the_current_grip(world):
         world.update(q=q.q)
         grip = world.ee_pose().inverse().multiply(world.object_pose("can8"))
         world.update(held="can8", grip=grip)
+        tray, height = world.surfaces["tray"], world.geometry["can8"].height
         for pose, qp in manip.placement(ctx(world, seed=1, budget=3), "can8", "tray"):
+            # the pose is where the can comes to rest when the hand at qp lets go: under
+            # the hand, upright on the tray, with the heading it is held at
             carried = fk(world, qp.q).multiply(grip)
-            assert carried.distance(pose) < 1e-6 and carried.angle(pose) < 1e-5
-            tray = world.surfaces["tray"]
+            assert math.dist(carried.pos[:2], pose.pos[:2]) < 1e-6
+            assert pose.pos[2] == pytest.approx(tray.top + height / 2, abs=1e-9)
+            assert abs(carried.pos[2] - pose.pos[2]) <= manip.PLACE_CLEARANCE + 0.005
+            assert pose.quat[:2] == pytest.approx((0.0, 0.0), abs=1e-12)  # upright
+            assert carried.angle(pose) < 0.05  # IK's tolerance: only the tilt differs
             assert all(abs(v - c) <= s / 2 for v, c, s in zip(pose.pos[:2], tray.position,
                                                                tray.size))
     finally:

@@ -119,3 +119,33 @@ def test_facts_about_the_checking_actions_own_sample_are_not_remembered(cluttere
     concrete = Concrete(engine.world.snapshot(), None)
     assert memory.recall(0, concrete, values, node_uid=1, attempt=0) == ()
     assert memory.evaluations == 0
+
+
+@pytest.mark.slow
+def test_a_recalling_run_is_executed_cleanly_by_the_world(cluttered15, tmp_path):
+    """Cluttered-15 seed 6, engine seed 6: by iteration 110 a fact learned in one branch
+    (a grasp no base reaches) has been recalled in another. Each recalled fact was learned
+    at an earlier revision, and the partial policy passes ``stampc execute``: outcomes
+    sampled by the world, every trajectory re-swept, the goal tested on the concrete
+    state (runs that reach an unrefined branch are counted apart, never as success)."""
+    from stampc.execute.session import execute_file
+
+    problem, _ = cluttered15
+    run = stampc.refine_policy([DOMAIN, problem], world="pybullet", options=RefineOptions(
+        seed=6, time_limit=None, max_iterations=110, target_coverage=0.999))
+    assert run.result.recalled_facts > 0
+    learned_before: set[str] = set()
+    recalled = 0
+    for revision in run.history["revisions"]:
+        for fact in revision.get("recalled", []):
+            assert fact in learned_before, f"{fact} recalled before it was learned anywhere"
+            assert fact.startswith("reaches(")  # decided before any sample, never collision
+            recalled += 1
+        learned_before.update(revision["facts"])
+    assert recalled == run.result.recalled_facts
+    path = tmp_path / "policy.json"
+    path.write_text(json.dumps(run.to_json()))
+    report = execute_file(path, runs=20, seed=1)
+    assert report.collisions == 0 and report.goal_failures == 0
+    assert report.count("failure") == 0
+    assert report.count("success") >= 10  # most of the mass is refined by then

@@ -19,7 +19,7 @@ from stampc.worlds.pybullet.kinematics import (IkSettings, grasp_candidates, sol
 from stampc.worlds.pybullet.planning import (PlanSettings, PlanStats, counts, plan_trajectory,
                                              sweep)
 from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
-                                           as_traj, interpolate, quat_from_yaw)
+                                           as_traj, interpolate, quat_from_yaw, yaw_of)
 from stampc.worlds.pybullet.world import PyBulletWorld
 
 PLACE_CLEARANCE = 0.002  # m above the surface, so a placed object does not penetrate it
@@ -132,7 +132,11 @@ def placement(ctx: Context, o: str, s: str, r: str | None = None
     first) that put it there.
 
     Uses the current grip if ``o`` is held (else a top grasp). The yielded pose is where
-    the hand at the config actually puts the object (IK is within 5 mm / 0.05 rad).
+    the object comes to rest when the hand at the config lets go of it: under the hand's
+    actual position (IK is within 5 mm / 0.05 rad), upright on the surface. Execution's
+    physics settles a released object there; the pose the hand holds it at (up to 5.5 mm
+    higher, tilted) left it up to 5.5 mm off, enough for a later trajectory planned
+    past it to meet it in execution.
     """
     world = _world(ctx, r)
     _check_object(world, o)
@@ -164,7 +168,7 @@ def placement(ctx: Context, o: str, s: str, r: str | None = None
         z = surface.top + geom.height / 2 + PLACE_CLEARANCE
         target = Pose.of((x, y, z), quat_from_yaw(ctx.rng.uniform(-math.pi, math.pi)))
         world.select(robot)  # other calls may have selected another robot meanwhile
-        result = _place_config(world, ctx, o, target, grip)
+        result = _place_config(world, ctx, o, target, grip, surface.top + geom.height / 2)
         world.set_arm(state.q)
         if result is not None:
             yield result
@@ -174,7 +178,7 @@ def placement(ctx: Context, o: str, s: str, r: str | None = None
 
 
 def _place_config(world: PyBulletWorld, ctx: Context, o: str, target: Pose,
-                  grip: Pose) -> tuple[Pose, Config] | None:
+                  grip: Pose, rest_z: float) -> tuple[Pose, Config] | None:
     hand = target.multiply(grip.inverse())
     q = solve_ik(world, hand, ctx.rng, settings=_ik(ctx))
     if q is None:
@@ -185,8 +189,8 @@ def _place_config(world: PyBulletWorld, ctx: Context, o: str, target: Pose,
     if pre is None or not _approach_ok(world, pre, q, placing=world.state.held == o):
         return None
     robot, base = _owner(world)
-    return Pose.of(actual.pos, actual.quat), Config.of(q, obj=o, pre=pre, robot=robot,
-                                                       base=base)
+    rest = Pose.of((actual.pos[0], actual.pos[1], rest_z), quat_from_yaw(yaw_of(actual.quat)))
+    return rest, Config.of(q, obj=o, pre=pre, robot=robot, base=base)
 
 
 def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:

@@ -45,6 +45,12 @@ def quat_from_yaw(yaw: float) -> Quat:
     return quat_from_axis_angle((0.0, 0.0, 1.0), yaw)
 
 
+def yaw_of(q: Sequence[float]) -> float:
+    """The heading (rotation about z) of the orientation ``q`` (x, y, z, w)."""
+    x, y, z, w = q
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
 def quat_angle(a: Sequence[float], b: Sequence[float]) -> float:
     """The rotation angle between two orientations (0..pi)."""
     dot = abs(sum(x * y for x, y in zip(a, b)))
