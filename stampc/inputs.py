@@ -15,6 +15,7 @@ A leading UTF-8 byte-order mark is accepted and dropped.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Iterable
 
@@ -98,3 +99,10 @@ def display_name(path: Path) -> str:
         return str(path.resolve().relative_to(Path.cwd().resolve()))
     except ValueError:
         return str(path)
+
+
+def json_problem(exc: json.JSONDecodeError, text: str) -> str:
+    """"truncated JSON" when the text ends before the document does (the parser stopped
+    at its end, or inside a string it never closed), else "not valid JSON"."""
+    cut = exc.pos >= len(text.rstrip()) or exc.msg.startswith("Unterminated string")
+    return "truncated JSON" if cut else "not valid JSON"

@@ -27,15 +27,15 @@ class PolicyFile:
 
 
 def load_policy(path: Path) -> PolicyFile:
-    from stampc.inputs import display_name, read_input_text
+    from stampc.inputs import display_name, json_problem, read_input_text
 
     shown = display_name(path)
     text = read_input_text(path, shown)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
-        what = "truncated JSON" if exc.pos >= len(text.rstrip()) else "not valid JSON"
-        raise _not_a_policy(f"{what}: {exc.msg}", Span.point(shown, exc.lineno, exc.colno))
+        raise _not_a_policy(f"{json_problem(exc, text)}: {exc.msg}",
+                            Span.point(shown, exc.lineno, exc.colno))
     _check_kind(data, shown)
     return PolicyFile(path, text, data)
 

@@ -105,14 +105,13 @@ def _optional_json(path: Path, looks_right) -> Mapping[str, Any] | None:
 
 
 def _json(path: Path) -> Any:
-    from stampc.inputs import read_input_text
+    from stampc.inputs import json_problem, read_input_text
 
     text = read_input_text(path, str(path))
     try:
         return json.loads(text)
     except json.JSONDecodeError as exc:
-        what = "truncated JSON" if exc.pos >= len(text.rstrip()) else "not valid JSON"
-        raise _bad(path, f"{what}: {exc.msg}", exc.lineno, exc.colno) from None
+        raise _bad(path, f"{json_problem(exc, text)}: {exc.msg}", exc.lineno, exc.colno) from None
 
 
 def _execution(path: Path) -> Mapping[str, Any]:

@@ -76,12 +76,21 @@ def test_policy_without_provenance_is_refused(shelf: Path, capsys) -> None:
 
 
 def test_truncated_policy_is_located(shelf: Path, tmp_path: Path, capsys) -> None:
+    """A cut file is called truncated wherever the cut falls: between tokens or inside a
+    string (which the parser reports where the string starts); a damaged one is not."""
     text = (shelf / "full" / "policy.json").read_text()
     bad = tmp_path / "policy.json"
-    bad.write_text(text[: len(text) // 2])
+    inside = text.index('": "', len(text) // 2) + 5  # inside a string value
+    between = text.index(",", len(text) // 2) + 1
+    for cut in (inside, between, len(text) // 3):
+        bad.write_text(text[:cut])
+        assert execute(bad) == 1
+        err = capsys.readouterr().err
+        assert "I003" in err and "truncated JSON" in err and "policy.json:" in err
+    bad.write_text(text[:between] + " ]] " + text[between:])
     assert execute(bad) == 1
     err = capsys.readouterr().err
-    assert "I003" in err and "truncated JSON" in err and "policy.json:" in err
+    assert "I003" in err and "not valid JSON" in err
 
 
 def test_abstract_policy_from_solve_is_named(shelf: Path, tmp_path: Path, capsys) -> None:
