@@ -104,3 +104,40 @@ def test_conditional_effects_match_exact_distribution_and_oracle(seed):
     for algorithm in ("lao", "lrtdp"):
         sol = solve(model, SolverOptions(algorithm=algorithm, epsilon=EPS, dead_end_cost=D))
         assert sol.expected_cost == pytest.approx(oracle, abs=1e-5)
+
+
+def _fixpoint_relaxed_costs(rm, state: int, combine) -> float:
+    """Textbook h_add / h_max: iterate literal costs to their fixpoint over every relaxed
+    action (no open-literal bookkeeping), then combine the goal literals' costs."""
+    from stampc.solvers.heuristics import relaxed_state
+    literals = relaxed_state(state, rm.n, rm.full)
+    cost = {f: 0.0 for f in range(2 * rm.n) if (literals >> f) & 1}
+    changed = True
+    while changed:
+        changed = False
+        for pre, adds, c in zip(rm.pres, rm.adds, rm.costs):
+            if any(p not in cost for p in pre):
+                continue
+            value = c + combine([cost[p] for p in pre])
+            for g in adds:
+                if value < cost.get(g, float("inf")) - 1e-12:
+                    cost[g] = value
+                    changed = True
+    if any(g not in cost for g in rm.goal_facts):
+        return float("inf")
+    return combine([cost[g] for g in rm.goal_facts])
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=seeds, unit=st.booleans())
+def test_relaxed_costs_match_a_textbook_fixpoint_in_every_reachable_state(seed, unit):
+    # the heuristics derive each state's open literals and counts from the initial
+    # state's through the facts it differs in: states far from it must come out the same
+    from stampc.solvers.heuristics import RelaxedModel, _relaxed_cost
+    model = random_model(seed)
+    rm = RelaxedModel(model, unit)
+    for s in reachable_states(model):
+        assert _relaxed_cost(rm, s, "add") == pytest.approx(
+            _fixpoint_relaxed_costs(rm, s, sum))
+        assert _relaxed_cost(rm, s, "max") == pytest.approx(
+            _fixpoint_relaxed_costs(rm, s, lambda xs: max(xs, default=0.0)))
