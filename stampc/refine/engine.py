@@ -53,6 +53,7 @@ class Engine(Backtracking, Reporting):
         self.planner.max_retries = options.solve_retries
         self.planner.timeout_prune = options.timeout_prune_probability
         self.planner.warm_state_limit = options.warm_state_limit
+        self.planner.timeout_plan = options.timeout_plan
         self.concretizer = Concretizer(model, bindings, world, options.seed)
         self.memory = FactMemory(self.concretizer)
         self.initial_values = dict(world.initial_values())

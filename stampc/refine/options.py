@@ -57,6 +57,11 @@ class RefineOptions:
     #: (partial solves, docs/refine.md): where a full contingent solve does not fit its
     #: cap, the likely branches get a policy now and the rare ones when selected
     timeout_prune_probability: float = TIMEOUT_PRUNE_PROBABILITY
+    #: a capped solve first tries a greedy plan on the all-outcomes determinization
+    #: (FF-Replan's planner; stampc/solvers/determinized.py): its path is refined now and
+    #: the outcomes off it are planned when refinement gets there. The retries above
+    #: follow only when no plan is found within the cap.
+    timeout_plan: bool = True
     #: backtracking over refined ancestors (Alg. 1): how often one node's generator
     #: values may be re-drawn because an action below it found no usable sample
     max_resamples: int = 3

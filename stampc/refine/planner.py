@@ -8,6 +8,7 @@ solution's values are reused (``warm``).
 
 from __future__ import annotations
 
+import math
 import random
 import time
 from dataclasses import replace
@@ -17,6 +18,7 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.graph import DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph
 from stampc.refine.deadends import DeadEndProver
 from stampc.solvers import Solution, SolverOptions, policy_tree, solve
+from stampc.solvers.determinized import with_greedy_plan
 from stampc.solvers.space import is_forbidden
 
 
@@ -57,6 +59,11 @@ class AbstractPlanner:
         #: after 1,346 s); None: no bound
         self.warm_state_limit: int | None = None
         self.cold_starts = 0
+        #: a capped solve first tries a plan on the all-outcomes determinization
+        #: (solvers/determinized.py) before any retry
+        self.timeout_plan = True
+        #: length of the determinized plan the last solve returned (0: none)
+        self.plan_steps = 0
 
     def solve_from(self, state: int, learned: tuple[int, int] | None = None) -> Solution:
         """Solve from ``state``; ``learned`` = (facts learned true, learned false) since
@@ -67,11 +74,25 @@ class AbstractPlanner:
         within the run's deadline, planning only the outcomes reached with probability
         ``timeout_prune`` or more (the rest are planned when refinement gets there). Only
         a converged solve without a way to the goal falls back to the next solver
-        settings (h_FF). ``notes`` says what happened."""
+        settings (h_FF). Before any retry, a plan on the all-outcomes determinization is
+        tried (``timeout_plan``): when one is found its path is the policy, and the
+        outcomes off it are planned when refinement reaches them. ``notes`` says what
+        happened."""
         self.notes = []
+        self.plan_steps = 0
         primary = self.chain[0]
         cap = self.solve_time_limit
         solution = self._solve_with(primary, state, learned, cap)
+        if not solution.converged and self.timeout_plan and self._remaining() > 0.05:
+            planned = with_greedy_plan(solution, min(cap or math.inf, self._remaining()))
+            if planned is not None:
+                solution, self.plan_steps = planned
+                self.timeouts += 1
+                self.notes.append(f"solver timeout: a {self.plan_steps}-step plan on the "
+                                  "all-outcomes determinization; outcomes off it are "
+                                  "planned when refinement gets there")
+                self.last_converged = False
+                return solution
         if self.timeout_prune > primary.prune_probability:
             primary = replace(primary, prune_probability=self.timeout_prune)
         for _ in range(self.max_retries):
@@ -134,7 +155,9 @@ class AbstractPlanner:
         if forced_action is not None:
             return self._graft_forced(graph, state, depth, horizon, forced_action)
         solution = self.solve_from(state, learned)
-        remaining = max(0, horizon - depth)
+        # a determinized plan is unrolled whole, past the horizon if need be: cut at the
+        # horizon, its end would only be planned again
+        remaining = max(0, horizon - depth, self.plan_steps)
         # a capped or pruned solve leaves tips unexpanded: they become horizon leaves,
         # planned when the engine gets there (one-step lookahead there would be blind)
         partial = not solution.converged or solution.options.prune_probability > 0

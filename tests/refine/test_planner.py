@@ -6,6 +6,7 @@ from __future__ import annotations
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -16,6 +17,7 @@ from stampc.refine import Engine, RefineOptions
 from stampc.refine.deadends import DeadEndProver
 from stampc.refine.graph import HORIZON, PolicyGraph
 from stampc.solvers import SolverOptions, solve
+from stampc.solvers.space import ANY_STATE
 from stampc.worlds.bindings import resolve_model
 from stampc.worlds.loading import load_scene, open_world
 
@@ -41,7 +43,7 @@ def test_a_converged_solve_without_goal_in_reach_grows_the_horizon():
 
 
 def test_a_solver_timeout_leaves_the_horizon_unchanged():
-    engine = engine_for(SHELF, horizon=1, solve_retries=1)
+    engine = engine_for(SHELF, horizon=1, solve_retries=1, timeout_plan=False)
     engine.planner.solve_time_limit = 1e-9  # every solve is cut off at its first check
     _, blocked, _ = _learned_shelf_states()
     graph = PolicyGraph(-1, {})
@@ -54,7 +56,8 @@ def test_a_solver_timeout_leaves_the_horizon_unchanged():
 
 @pytest.mark.parametrize("prune", (0.0, 0.5))
 def test_a_capped_solve_is_continued_as_a_partial_solve(prune):
-    engine = engine_for(SHELF, horizon=8, solve_retries=1, timeout_prune_probability=prune)
+    engine = engine_for(SHELF, horizon=8, solve_retries=1, timeout_prune_probability=prune,
+                        timeout_plan=False)
     engine.planner.solve_time_limit = 1e-9  # every solve is cut off at its first check
     engine.planner.log = []
     _, blocked, _ = _learned_shelf_states()
@@ -73,7 +76,7 @@ def test_a_timeout_prune_probability_outside_zero_one_is_refused():
 
 
 def test_unplanned_tips_of_a_timed_out_solve_become_horizon_leaves():
-    engine = engine_for(SHELF, horizon=8, solve_retries=0)
+    engine = engine_for(SHELF, horizon=8, solve_retries=0, timeout_plan=False)
     engine.planner.solve_time_limit = 1e-9
     _, blocked, _ = _learned_shelf_states()
     graph = PolicyGraph(-1, {})
@@ -100,6 +103,48 @@ def test_pruned_outcomes_are_planned_when_refinement_gets_there(prune):
     assert events[-1].goal_probability == pytest.approx(1.0, abs=1e-9)
     extended = [e for e in events if e.kind == "extend"]
     assert bool(extended) == (prune > 0)
+
+
+def test_a_capped_solve_refines_a_determinized_plan_first():
+    """A solve cut off at its first check gets a plan on the all-outcomes determinization
+    instead of retries: its path reaches the goal past the horizon, its actions are
+    applicable, the outcomes off it wait as horizon leaves; the run still covers all."""
+    engine = engine_for(SHELF, horizon=1, seed=0, time_limit=60)
+    engine.planner.solve_time_limit = 1e-9
+    gm, blocked, _ = _learned_shelf_states()
+    graph = PolicyGraph(-1, {})
+    graph.root = engine._graft_growing(graph, blocked, 0, None)
+    assert "plan on the all-outcomes determinization" in " | ".join(engine._notes)
+    assert not any("retry" in n for n in engine._notes)
+    steps = engine.planner.plan_steps
+    assert steps >= 3  # can1 away, then can0: longer than the horizon of 1
+    node, path = graph.nodes[graph.root], []
+    while node.action is not None:  # follow the plan's outcomes (each planned child)
+        assert gm.actions[node.action].precondition.holds(node.state)
+        path.append(node.action)
+        planned = [graph.nodes[e.child] for e in node.edges
+                   if graph.nodes[e.child].leaf != HORIZON]
+        assert planned, "every plan step has an outcome that stays on the plan"
+        node = planned[0]
+    assert node.leaf == "goal" and gm.is_goal(node.state) and len(path) == steps
+    events = list(engine.run())
+    assert events[-1].coverage == pytest.approx(1.0, abs=1e-9)
+
+
+def test_the_determinized_plan_is_refused_when_no_outcome_sequence_reaches_the_goal():
+    from stampc.solvers.determinized import with_greedy_plan
+    gm, blocked, _ = _learned_shelf_states()
+    # ban every pick of can1, the only way to clear can0's trajectories: no plan exists
+    bans = frozenset((ANY_STATE, a.index) for a in gm.actions
+                     if a.name == "pick" and a.args[0] == "can1")
+    assert bans
+    cut = solve(gm, SolverOptions(heuristic="hadd", forbidden=bans), init=blocked,
+                stop=lambda search, node: True)
+    assert with_greedy_plan(replace(cut, converged=False), 5.0) is None
+    free = solve(gm, SolverOptions(heuristic="hadd"), init=blocked,
+                 stop=lambda search, node: True)
+    planned, steps = with_greedy_plan(replace(free, converged=False), 5.0)
+    assert steps >= 3 and planned.goal_probability > 0 and not planned.converged
 
 
 def _learned_shelf_states():
