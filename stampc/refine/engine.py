@@ -308,6 +308,7 @@ class Engine(Backtracking, Reporting):
         node = graph[path[-1]]
         if failure.violated:
             self.memory.remember(failure.violated)
+            self._ban_no_progress(graph, path, failure.violated)
             recalled = self._recall(node, failure.violated, values)
             return self._update(graph, node, failure.violated, "update", path, recalled)
         node.attempts += 1
@@ -331,6 +332,33 @@ class Engine(Backtracking, Reporting):
         self._ban_everywhere_if_hopeless(node.action, node.state)
         return self._update(graph, node, (), "ban", path)
 
+    def _ban_no_progress(self, graph: PolicyGraph, path: tuple[int, ...], learned) -> None:
+        """When the facts ``learned`` at the path's last node bring it back to the abstract
+        state of an ancestor, the actions from that ancestor on made no abstract progress
+        (e.g. a can picked and placed again only to block the same trajectory: the `?`
+        effects of a placement promise a new pose, and the sampler found one in the way
+        once more; cluttered-40 seed 3 did that 400 times). Ban the ancestor's action in
+        that state, so the replan takes another way; the ban is lifted with the ancestor
+        when it is re-sampled."""
+        state = self._with_facts(graph[path[-1]].state, learned)
+        for uid in reversed(path[:-1]):
+            ancestor = graph[uid]
+            if ancestor.state != state or ancestor.action is None:
+                continue
+            key = (state, ancestor.action)
+            if key not in self.planner.forbidden:
+                self.planner.forbidden.add(key)
+                self._bans[key] = uid
+                self._notes.append(f"{self.model.actions[ancestor.action].label}: no "
+                                   "abstract progress since (its state came back), banned there")
+            return
+
+    def _with_facts(self, state: int, written) -> int:
+        """``state`` with the facts ``written`` ((fact, value) pairs), derived facts closed."""
+        for fact, value in written:
+            state = state | (1 << fact) if value else state & ~(1 << fact)
+        return self.model.axioms.close(state)
+
     def _recall(self, node: Node, learned, values) -> tuple[tuple[int, bool], ...]:
         """Facts learned elsewhere that hold at ``node`` too (recall.py)."""
         if not self.options.recall_learned or node.concrete is None:
@@ -346,10 +374,7 @@ class Engine(Backtracking, Reporting):
         """UpdateAbstraction: write the true facts at ``node`` (``learned`` there, and
         ``recalled`` from elsewhere), replan below it (new PRG node)."""
         written = tuple(learned) + tuple(recalled)
-        state = node.state
-        for fact, value in written:
-            state = state | (1 << fact) if value else state & ~(1 << fact)
-        state = self.model.axioms.close(state)  # derived facts follow the learned ones
+        state = self._with_facts(node.state, written)
         forced = None
         if kind == "explore" or self.rng.random() < self.options.explore_probability:
             forced = self.planner.random_action(state, self.rng, exclude=node.action)

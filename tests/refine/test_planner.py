@@ -233,3 +233,51 @@ def test_time_limit_is_honoured_on_a_hard_instance(tmp_path):
     assert summary["wall_time_s"] <= 2.0 + 1.0, summary
     assert wall < 180, wall  # no run-away (start-up alone takes seconds on a loaded machine)
     assert proc.returncode != 0 or summary["coverage"] >= 1.0 - 1e-9
+
+
+def test_learning_the_way_back_to_an_ancestors_state_bans_its_action_there():
+    """pick(can1) then place(can1), and the placed can blocks the same trajectory again:
+    the node is back in the state where the pick was chosen. That pick is banned in that
+    state (and only there); facts that make a new state ban nothing."""
+    from stampc.refine.graph import Node
+    engine = engine_for(SHELF)
+    gm, blocked, _ = _learned_shelf_states()
+    facts = {str(f): i for i, f in enumerate(gm.facts)}
+    action = {a.label: a.index for a in gm.actions}
+    pick = action["pick(can1, pose_can1, g_pick_can1_pose_can1, q_pick_can1_pose_can1, "
+                  "t_pick_can1_pose_can1)"]
+    place = next(i for label, i in action.items() if label.startswith("place(can1, table"))
+    again = facts[next(f for f in facts if f.startswith("collision(can1, t_pick_can0"))]
+    placed = blocked & ~(1 << again)  # the re-placed can: its collisions unknown again
+    holding = blocked | (1 << facts["holding(can1)"])
+    graph = PolicyGraph(0, {0: Node(0, blocked, 0, action=pick),
+                            1: Node(1, holding, 1, action=place),
+                            2: Node(2, placed, 2, action=pick)})
+    engine._ban_no_progress(graph, (0, 1, 2), ((again, False),))
+    assert not engine.planner.forbidden  # a new state: progress
+    engine._ban_no_progress(graph, (0, 1, 2), ((again, True),))
+    assert engine.planner.forbidden == {(blocked, pick)}
+    assert engine._bans == {(blocked, pick): 0}
+    assert any("no abstract progress" in n for n in engine._notes)
+
+
+def test_resampling_prefers_the_ancestor_that_generated_the_failing_actions_argument():
+    """pick(can1, p_place_can1_table, ...) finds no sample: the place that generated
+    p_place_can1_table is re-drawn, though it was re-drawn more often than a nearer,
+    unrelated ancestor; without such an ancestor the least re-drawn one is."""
+    from stampc.refine.graph import Node
+    engine = engine_for(SHELF)
+    gm = stampc.ground(stampc.load_model(SHELF))
+    action = {a.label: a.index for a in gm.actions}
+    place1 = next(i for label, i in action.items() if label.startswith("place(can1, table"))
+    place2 = next(i for label, i in action.items() if label.startswith("place(can2, table"))
+    pick1 = next(i for label, i in action.items() if label.startswith("pick(can1, p_place_can1_table"))
+    pick0 = next(i for label, i in action.items() if label.startswith("pick(can0, pose_can0"))
+    nodes = {0: Node(0, gm.init, 0, action=place1, sigma={"p_place_can1_table": 1}, resamples=1),
+             1: Node(1, gm.init, 1, action=place2, sigma={"p_place_can2_table": 2}),
+             2: Node(2, gm.init, 2, action=pick1), 3: Node(3, gm.init, 2, action=pick0)}
+    graph = PolicyGraph(0, nodes)
+    assert engine._resample_target(graph, (0, 1, 2)).uid == 0
+    assert engine._resample_target(graph, (0, 1, 3)).uid == 1  # nothing relevant: least
+    nodes[0].resamples = engine.options.max_resamples  # exhausted: the others remain
+    assert engine._resample_target(graph, (0, 1, 2)).uid == 1
