@@ -29,7 +29,7 @@ from __future__ import annotations
 import heapq
 import math
 from fractions import Fraction
-from typing import Callable
+from typing import Callable, Iterator
 
 from stampc.ir.grounded import GAnd, GEffect, GFormula, GLit, GroundCondition, GroundModel
 from stampc.ir.masks import indices
@@ -177,14 +177,8 @@ def _open_counts(rm: RelaxedModel, state: int) -> list[int]:
     in: a search's states lie near it, and a full recount (one big-int AND per relaxed
     action, over thousands of literals) was a third of every evaluation."""
     counts = list(rm.ref_counts)
-    users, n = rm.users, rm.n
-    diff = (state ^ rm.ref_state) & rm.full
-    while diff:
-        low = diff & -diff
-        diff ^= low
-        f = low.bit_length() - 1
-        # f now true: its positive literal is no longer lacking, its negative one is
-        on, off = (f, n + f) if state & low else (n + f, f)
+    users = rm.users
+    for on, off in _flips(rm, state):
         for i in users[on]:
             counts[i] -= 1
         for i in users[off]:
@@ -192,18 +186,25 @@ def _open_counts(rm: RelaxedModel, state: int) -> list[int]:
     return counts
 
 
-def _open_literals(rm: RelaxedModel, state: int) -> set[int]:
-    """The useful literals ``state`` lacks: the initial state's, corrected
-    for the facts ``state`` differs in (as in _open_counts; a walk over every set bit of
-    a mask thousands of literals wide costs a big-int operation per bit)."""
-    open_set = set(rm.ref_open)
-    useful, n = rm.useful, rm.n
+def _flips(rm: RelaxedModel, state: int) -> Iterator[tuple[int, int]]:
+    """(literal now true, literal now false) for each fact ``state`` differs in from the
+    initial state: a fact now true makes its positive literal true, its negative false."""
+    n = rm.n
     diff = (state ^ rm.ref_state) & rm.full
     while diff:
         low = diff & -diff
         diff ^= low
         f = low.bit_length() - 1
-        on, off = (f, n + f) if state & low else (n + f, f)
+        yield (f, n + f) if state & low else (n + f, f)
+
+
+def _open_literals(rm: RelaxedModel, state: int) -> set[int]:
+    """The useful literals ``state`` lacks: the initial state's, corrected
+    for the facts ``state`` differs in (as in _open_counts; a walk over every set bit of
+    a mask thousands of literals wide costs a big-int operation per bit)."""
+    open_set = set(rm.ref_open)
+    useful = rm.useful
+    for on, off in _flips(rm, state):
         open_set.discard(on)
         if (useful >> off) & 1:
             open_set.add(off)
