@@ -46,6 +46,8 @@ def greedy_plan(search: Search, init: int, deadline: float) -> list[tuple[int, i
             continue  # a recognised dead end
         if x not in expanded:
             search.expand(x)
+            if x not in terminal:  # as LAO* does: every expanded node has its greedy
+                search.backup(x)   # choice, so the tables stay a valid warm start
             expansions += 1
             if expansions % _TIME_CHECK_EVERY == 0 and time.perf_counter() > deadline:
                 return None

@@ -141,10 +141,17 @@ def test_the_determinized_plan_is_refused_when_no_outcome_sequence_reaches_the_g
     cut = solve(gm, SolverOptions(heuristic="hadd", forbidden=bans), init=blocked,
                 stop=lambda search, node: True)
     assert with_greedy_plan(replace(cut, converged=False), 5.0) is None
-    free = solve(gm, SolverOptions(heuristic="hadd"), init=blocked,
+    # no guidance (h = 0): the search expands nodes off the plan too
+    free = solve(gm, SolverOptions(heuristic="zero"), init=blocked,
                  stop=lambda search, node: True)
     planned, steps = with_greedy_plan(replace(free, converged=False), 5.0)
     assert steps >= 3 and planned.goal_probability > 0 and not planned.converged
+    # the tables stay a warm start LAO* can continue: every expanded node has a choice
+    search = planned.search
+    assert all(x in search.best for x in search.expanded)
+    assert len(search.expanded) > steps
+    again = solve(gm, SolverOptions(heuristic="zero"), init=blocked, warm=planned)
+    assert again.converged and again.goal_probability == pytest.approx(1.0)
 
 
 def _learned_shelf_states():
