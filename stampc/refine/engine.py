@@ -337,9 +337,9 @@ class Engine(Backtracking, Reporting):
         state of an ancestor, the actions from that ancestor on made no abstract progress
         (e.g. a can picked and placed again only to block the same trajectory: the `?`
         effects of a placement promise a new pose, and the sampler found one in the way
-        once more; cluttered-40 seed 3 did that 400 times). Ban the ancestor's action in
-        that state, so the replan takes another way; the ban is lifted with the ancestor
-        when it is re-sampled."""
+        once more: cluttered-40 seed 3 learned that can31 blocks the same pick 17 times).
+        Ban the ancestor's action in that state, so the replan takes another way; the ban
+        is lifted with the ancestor when it is re-sampled."""
         state = self._with_facts(graph[path[-1]].state, learned)
         for uid in reversed(path[:-1]):
             ancestor = graph[uid]

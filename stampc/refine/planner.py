@@ -86,6 +86,7 @@ class AbstractPlanner:
         if not solution.converged and self.timeout_plan and self._remaining() > 0.05:
             planned = with_greedy_plan(solution, min(cap or math.inf, self._remaining()))
             if planned is not None:
+                self.solve_time_s += planned[0].solve_time_s - solution.solve_time_s
                 solution, self.plan_steps = planned
                 self.timeouts += 1
                 self.notes.append(f"solver timeout: a {self.plan_steps}-step plan on the "
