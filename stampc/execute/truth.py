@@ -163,7 +163,12 @@ class TruthModel:
         planned = {planned_key(o): i for i, o in enumerate(node["outcomes"])}
         out = []
         for s in action.outcomes(state):
-            key = (self._names(s.add), self._names(s.delete & ~s.add))
+            adds = self._names(s.add)
+            # a policy lists the deletes of facts true before (refine/export.py)
+            key = (adds, self._names(s.delete & state & ~s.add))
+            if key not in planned:  # one written before that listed every delete
+                every = (adds, self._names(s.delete & ~s.add))
+                key = every if every in planned else key
             out.append(TrueOutcome(float(s.probability), key, planned.get(key)))
         return tuple(out)
 

@@ -130,3 +130,39 @@ def test_an_outcome_missing_from_the_policy_is_unplanned(shelf: Path) -> None:
     assert unplanned and all(r.status == "unrefined" for r in unplanned)
     assert report.count("success") + len(unplanned) == 60
     assert report.predicted < 0.5
+
+
+def test_outcomes_list_only_deletes_of_true_facts_and_older_policies_still_match(
+        shelf: Path, tmp_path: Path) -> None:
+    """A policy's outcomes delete only facts true in their node's state (a `?` effect
+    deletes collision(o, t) for every trajectory, nearly all already false). A policy
+    written before, listing every delete, executes the same: the world matches its
+    outcomes too."""
+    path = shelf / "full" / "policy.json"
+    policy = json.loads(path.read_text())
+    gm = api.ground(api.load_model([shelf / "domain.stamp", shelf / "problem.stamp"]))
+    facts = {str(f): i for i, f in enumerate(gm.facts)}
+    actions = {a.label: a for a in gm.actions}
+    names = lambda mask: sorted(str(gm.facts[i]) for i in range(len(gm.facts)) if mask >> i & 1)  # noqa: E731
+    widened = 0
+    for node in policy["nodes"]:
+        state_names = set(node["state"])
+        for outcome in node.get("outcomes", []):
+            deleted = {f"{d['predicate']}({', '.join(d['args'])})" for d in outcome["deletes"]}
+            assert deleted <= state_names, node["action"]
+        if not node.get("outcomes"):
+            continue
+        # rewrite as the previous format did: every delete of the ground outcome
+        state = sum(1 << facts[f] for f in node["state"] if f in facts)
+        for outcome, ground in zip(node["outcomes"], actions[node["action"]].outcomes(state)):
+            every = names(ground.delete & ~ground.add)
+            widened += len(every) > len(outcome["deletes"])
+            outcome["deletes"] = [{"predicate": f.split("(")[0],
+                                   "args": f[f.index("(") + 1:-1].split(", ") if "(" in f else []}
+                                  for f in every]
+    assert widened  # the shelf's placements delete facts that were false
+    old = tmp_path / "policy.json"
+    old.write_text(json.dumps(policy))
+    now = execute_file(path, runs=40, seed=5)
+    before = execute_file(old, runs=40, seed=5)
+    assert now.count("success") == before.count("success") == 40
