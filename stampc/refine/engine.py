@@ -341,14 +341,16 @@ class Engine(Backtracking, Reporting):
         Ban the ancestor's action in that state, so the replan takes another way; the ban
         is lifted with the ancestor when it is re-sampled."""
         state = self._with_facts(graph[path[-1]].state, learned)
-        for uid in reversed(path[:-1]):
-            ancestor = graph[uid]
+        for k in range(len(path) - 2, -1, -1):
+            ancestor = graph[path[k]]
+            if not _nominal_step(graph, path[k], path[k + 1]):
+                return  # chance brought it back (a drift, a slip): not the choice's doing
             if ancestor.state != state or ancestor.action is None:
                 continue
             key = (state, ancestor.action)
             if key not in self.planner.forbidden:
                 self.planner.forbidden.add(key)
-                self._bans[key] = uid
+                self._bans[key] = path[k]
                 self._notes.append(f"{self.model.actions[ancestor.action].label}: no "
                                    "abstract progress since (its state came back), banned there")
             return
@@ -421,3 +423,10 @@ class Engine(Backtracking, Reporting):
         target.edges, target.sigma, target.attempts = list(source.edges), None, 0
         target.proven, target.given_up = source.proven, False
         del graph.nodes[source.uid]
+
+
+def _nominal_step(graph: PolicyGraph, parent: int, child: int) -> bool:
+    """Whether ``child`` is reached from ``parent`` by one of its likeliest outcomes."""
+    edges = graph[parent].edges
+    top = max((e.probability for e in edges), default=0.0)
+    return any(e.child == child and e.probability >= top for e in edges)

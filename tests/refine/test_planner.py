@@ -245,9 +245,9 @@ def test_time_limit_is_honoured_on_a_hard_instance(tmp_path):
 def test_learning_the_way_back_to_an_ancestors_state_bans_its_action_there():
     """pick(can1) then place(can1), and the placed can blocks the same trajectory again:
     the node is back in the state where the pick was chosen. That pick is banned in that
-    state (and only there); facts that make a new state ban nothing."""
-    from stampc.refine.graph import Node
-    engine = engine_for(SHELF)
+    state (and only there); facts that make a new state ban nothing, and neither does a
+    way back that went through an unlikely outcome (chance, not the choice)."""
+    from stampc.refine.graph import Edge, Node
     gm, blocked, _ = _learned_shelf_states()
     facts = {str(f): i for i, f in enumerate(gm.facts)}
     action = {a.label: a.index for a in gm.actions}
@@ -257,12 +257,22 @@ def test_learning_the_way_back_to_an_ancestors_state_bans_its_action_there():
     again = facts[next(f for f in facts if f.startswith("collision(can1, t_pick_can0"))]
     placed = blocked & ~(1 << again)  # the re-placed can: its collisions unknown again
     holding = blocked | (1 << facts["holding(can1)"])
-    graph = PolicyGraph(0, {0: Node(0, blocked, 0, action=pick),
-                            1: Node(1, holding, 1, action=place),
-                            2: Node(2, placed, 2, action=pick)})
-    engine._ban_no_progress(graph, (0, 1, 2), ((again, False),))
+
+    def graph_with(p_held: float) -> PolicyGraph:
+        ok, crushed = gm.actions[pick].outcomes(blocked)[:2]
+        nodes = {0: Node(0, blocked, 0, action=pick,
+                         edges=[Edge(p_held, 0, ok, 1), Edge(1 - p_held, 1, crushed, 3)]),
+                 1: Node(1, holding, 1, action=place,
+                         edges=[Edge(1.0, 0, gm.actions[place].outcomes(holding)[0], 2)]),
+                 2: Node(2, placed, 2, action=pick), 3: Node(3, blocked, 1, leaf="horizon")}
+        return PolicyGraph(0, nodes)
+
+    engine = engine_for(SHELF)
+    engine._ban_no_progress(graph_with(0.9), (0, 1, 2), ((again, False),))
     assert not engine.planner.forbidden  # a new state: progress
-    engine._ban_no_progress(graph, (0, 1, 2), ((again, True),))
+    engine._ban_no_progress(graph_with(0.1), (0, 1, 2), ((again, True),))
+    assert not engine.planner.forbidden  # back through a 1-in-10 outcome: chance
+    engine._ban_no_progress(graph_with(0.9), (0, 1, 2), ((again, True),))
     assert engine.planner.forbidden == {(blocked, pick)}
     assert engine._bans == {(blocked, pick): 0}
     assert any("no abstract progress" in n for n in engine._notes)
