@@ -97,9 +97,15 @@ def run(args: argparse.Namespace) -> int:
     if args.output:
         notes = run_.write(Path(args.output))
         print(f"wrote {args.output}/policy.json, coverage.csv, coverage.png, policy.dot, "
-              "policy.svg, summary.json, prg.json")
+              "policy.svg, summary.json, prg.json" + (", error.txt" if run_.error else ""))
         for note in notes:
             print(f"note: {note}")
+    if run_.error is not None:
+        where = (f"with {args.output}/error.txt; the partial policy is written" if args.output
+                 else "(with -o DIR the traceback is kept in DIR/error.txt)")
+        print(f"stampc refine: the run stopped on a bug in stampc ({result.stop_reason}); "
+              f"please report it {where}", file=sys.stderr)
+        return EXIT_STOPPED_SHORT
     if result.coverage >= args.target_coverage - 1e-9:
         return EXIT_DONE
     print(f"stampc refine: stopped short of the target coverage {args.target_coverage:g} "
