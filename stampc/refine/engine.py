@@ -357,19 +357,14 @@ class Engine(Backtracking, Reporting):
 
     def _with_facts(self, state: int, written) -> int:
         """``state`` with the facts ``written`` ((fact, value) pairs), derived facts closed."""
-        for fact, value in written:
-            state = state | (1 << fact) if value else state & ~(1 << fact)
-        return self.model.axioms.close(state)
+        return self.model.axioms.close(_written(state, written))
 
     def _recall(self, node: Node, learned, values) -> tuple[tuple[int, bool], ...]:
         """Facts learned elsewhere that hold at ``node`` too (recall.py)."""
         if not self.options.recall_learned or node.concrete is None:
             return ()
-        state = node.state
-        for fact, value in learned:
-            state = state | (1 << fact) if value else state & ~(1 << fact)
-        return self.memory.recall(state, node.concrete, values, node_uid=node.uid,
-                                  attempt=node.attempts)
+        return self.memory.recall(_written(node.state, learned), node.concrete, values,
+                                  node_uid=node.uid, attempt=node.attempts)
 
     def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
                 path: tuple[int, ...] = (), recalled=()) -> tuple[str, str]:
@@ -430,3 +425,10 @@ def _nominal_step(graph: PolicyGraph, parent: int, child: int) -> bool:
     edges = graph[parent].edges
     top = max((e.probability for e in edges), default=0.0)
     return any(e.child == child and e.probability >= top for e in edges)
+
+
+def _written(state: int, written) -> int:
+    """``state`` with the facts ``written`` ((fact, value) pairs) set as given."""
+    for fact, value in written:
+        state = state | (1 << fact) if value else state & ~(1 << fact)
+    return state
