@@ -204,6 +204,48 @@ def test_put_is_deterministic_and_only_where_the_structure_says():
         world.close()
 
 
+def _clear_puts(world, ctx: Context, arm: str, role: st.Role) -> list[bool]:
+    """For each put config the generator yields for ``arm`` (holding a fresh plank from
+    feed 1): whether a trajectory to it exists that touches no plank."""
+    world.update(held=None, grip=None, q=tuple(world.model.rest))
+    if keva.body_at(world, keva.feed_pose(world, "feed1")) is None:
+        keva.bring(ctx, ConcreteAction("bring", {}, adds=(("waiting", ("feed1",)),)))
+    g, q = next(iter(keva.feed_grasp(ctx, arm, "feed1")))
+    keva.pick(ctx, ConcreteAction("pick", {"a": arm, "q": q, "g": g}, adds=()))
+    out = []
+    for _, put in keva.span_place(Context(world, random.Random(1)), arm, role.name,
+                                  role.orientation, *role.supports):
+        robot_hits, held_hits = world.hits(put.q)
+        world.set_arm(world.state.q)
+        trajs = [t for (t,) in keva.motion(Context(world, random.Random(2),
+                                                   options={"budget": 2}), arm, put)]
+        out.append(not (robot_hits | held_hits) & world.movable_ids
+                   and any(not keva.blocked(ctx, t) for t in trajs))
+    return out
+
+
+@pytest.mark.parametrize("upto", [37, 45])
+def test_tall_tower_puts_are_clear_of_the_built_planks(upto):
+    """Tower-24 (seed 0) with roles r0..r{upto-1} built: some arm gets a put config for
+    the next role that touches no plank, with a plank-free trajectory to it, and every
+    config offered is one. Before, the first IK solution (deterministic per role, the
+    same on every re-sample) put the hand into the level's other plank from level 18
+    up, so only a `blocked` trajectory could be learned (r37); at level 22 (r45) no
+    approach 4-10 cm above the put was within reach of either arm."""
+    roles = st.roles("tower", 24, 0)
+    world = open_world("pybullet", kv.build("tower", 24, 0), seed=0)
+    try:
+        ctx = Context(world=world, rng=random.Random(0))
+        bodies = sorted(keva._meta_supply(world), key=lambda n: int(n[1:]))
+        for body, role in zip(bodies, roles[:upto]):
+            world.update(poses=world.with_object_pose(body, role.pose))
+        offered = [ok for arm in ("left", "right")
+                   for ok in _clear_puts(world, ctx, arm, roles[upto])]
+        assert offered and all(offered)
+    finally:
+        world.close()
+
+
 def _checked(fn, failures: list[str]):
     def run(ctx: Context, action: ConcreteAction) -> None:
         if "t" in action.args and not manipulation.trajectory_free(ctx, as_traj(action.args["t"])):

@@ -33,6 +33,7 @@ from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation
 from stampc.worlds.pybullet.kinematics import IkSettings, solve_ik, top_grasp
+from stampc.worlds.pybullet.planning import CHECK_RESOLUTION, interpolate
 from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
                                            as_traj, quat_from_axis_angle)
 from stampc.worlds.pybullet.world import PyBulletWorld
@@ -42,11 +43,13 @@ GRASP_DEPTH = 0.008  # m the fingertips reach below the plank's top face
 #: plank never touches the planks below)
 PLACE_CLEARANCE = 0.006
 #: m above the place pose where the straight vertical approach may start (first that works)
-PRE_PLACE = (0.1, 0.07, 0.04)
+PRE_PLACE = (0.1, 0.07, 0.04, 0.025)
 #: accurate IK for put-downs (PyBullet's IK plateaus around 2 mm, often more)
 PLACE_IK = IkSettings(restarts=8, refinements=5, pos_tol=0.004, ang_tol=0.02)
 RETRY_IK = IkSettings(restarts=24, refinements=5, pos_tol=0.004, ang_tol=0.02)
 PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
+#: IK solutions tried per put pose for one clear of the planks (the first from rest)
+PUT_TRIES = 4
 AT_TOL = 0.01  # m: a body within this of a feed or role position is there
 #: rotations mapping a box onto itself (identity, half turns about its axes)
 SYMMETRIES = (Pose((0.0, 0.0, 0.0)),
@@ -153,8 +156,7 @@ def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random
             raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
             hand = raised.multiply(state.grip.inverse())
             world.select(a)
-            q = solve_ik(world, hand, rng, settings=ik)
-            pre = _pre_place(world, hand, q, rng) if q is not None else None
+            q, pre = _clear_put_config(world, hand, rng, ik)
             world.set_arm(state.q)
             if q is not None and pre is not None:
                 found = True
@@ -164,15 +166,58 @@ def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random
             return
 
 
+def _clear_put_config(world: PyBulletWorld, hand: Pose, rng: random.Random, ik: IkSettings
+                      ) -> tuple[tuple[float, ...] | None, tuple[float, ...] | None]:
+    """An IK config for ``hand`` and its pre-place config whose arm, at the put and along
+    the vertical approach, touches no plank (``PUT_TRIES`` IK solutions, the first from
+    the rest config). The planks a put-down can meet are the structure's, and no action
+    ever moves them again: a config in one of them (the hand in the neighbouring plank
+    of a tall tower's level, measured from level 18 of tower-24 up) could only be
+    learned as a ``blocked`` trajectory, again on every re-sample, since the first IK
+    solution is deterministic."""
+    seed_q: tuple[float, ...] | None = None
+    for _ in range(PUT_TRIES):
+        q = solve_ik(world, hand, rng, seed_q=seed_q, settings=ik)
+        if q is None:
+            return None, None
+        pre = _pre_place(world, hand, q, rng)
+        if pre is not None and _clear_of_planks(world, q):
+            return q, pre
+        seed_q = tuple(rng.uniform(lo, hi) for lo, hi in zip(world.lower, world.upper))
+    return None, None
+
+
+def _clear_of_planks(world: PyBulletWorld, q: tuple[float, ...]) -> bool:
+    """The arm at ``q`` touches no plank (the held one excepted)."""
+    robot_hits, held_hits = world.hits(q)
+    return not (robot_hits | held_hits) & (world.movable_ids - _held_id(world))
+
+
+def _held_id(world: PyBulletWorld) -> frozenset[int]:
+    held = world.state.held
+    return frozenset({world.body[held]}) if held is not None else frozenset()
+
+
 def _pre_place(world: PyBulletWorld, hand: Pose, q: tuple[float, ...],
                rng: random.Random) -> tuple[float, ...] | None:
-    """A config ``PRE_PLACE`` (or less) above ``hand`` with a free vertical approach."""
+    """A config ``PRE_PLACE`` (or less) above ``hand`` with a vertical approach free of
+    static obstacles and of the planks (the held plank may touch the table)."""
     for height in PRE_PLACE:
         above = Pose((hand.pos[0], hand.pos[1], hand.pos[2] + height), hand.quat)
         pre = solve_ik(world, above, rng, seed_q=q, settings=PRE_IK)
-        if pre is not None and manipulation._approach_ok(world, pre, q, placing=True):
+        if (pre is not None and manipulation._approach_ok(world, pre, q, placing=True)
+                and _approach_clear_of_planks(world, pre, q)):
             return pre
     return None
+
+
+def _approach_clear_of_planks(world: PyBulletWorld, pre: tuple[float, ...],
+                              q: tuple[float, ...]) -> bool:
+    """The straight approach from ``pre`` to ``q`` touches no plank, swept at the
+    resolution of the final trajectory check."""
+    others = world.movable_ids - _held_id(world)
+    return not any((robot | held) & others for robot, held in
+                   (world.hits(c) for c in interpolate(pre, q, CHECK_RESOLUTION)))
 
 
 def motion(ctx: Context, a: str, q: Config) -> Iterator[tuple[Traj]]:
