@@ -199,3 +199,37 @@ def test_kuka_model_from_the_robot_table():
             assert fk(w, q.q).distance(pose.multiply(g.hand)) <= POS_TOL
     finally:
         w.close()
+
+
+def _finger_opening(world) -> list[float]:
+    return [p.getJointState(world.robot, j, physicsClientId=world.client)[0]
+            for j in world.model.finger_joints]
+
+
+def test_fingers_close_on_the_held_object_and_open_a_little_to_let_go(world):
+    """Holding a can, the fingers stand at its radius (+ FINGER_SLACK) along the closing
+    axis; in the retreat from letting it go, at its radius + RELEASE_SLACK; otherwise
+    wide open. Wide-open fingers around a held object made collisions no real hand has
+    (a Keva plank's neighbour in the next tower)."""
+    from stampc.worlds.pybullet.world import FINGER_SLACK, RELEASE_SLACK
+    s0 = world.snapshot()
+    try:
+        radius = world.geometry["can8"].dims[0]
+        g, q = next(manip.grasp(ctx(world), "can8", world.initial_values()["pose_can8"]))
+        world.update(q=q.q)
+        assert _finger_opening(world) == pytest.approx([world.model.finger_open] * 2)
+        grip = world.ee_pose().inverse().multiply(world.object_pose("can8"))
+        world.update(held="can8", grip=grip)
+        assert _finger_opening(world) == pytest.approx([radius + FINGER_SLACK] * 2, abs=3e-3)  # tilt
+        world.hits(q.q, "retreat")  # holding: the retreat keeps the grip
+        assert _finger_opening(world) == pytest.approx([radius + FINGER_SLACK] * 2, abs=3e-3)  # tilt
+        held = _finger_opening(world)[0]
+        world.update(held=None, grip=None, released="can8")
+        world.hits(q.q, "retreat")
+        assert _finger_opening(world)[0] - held == pytest.approx(RELEASE_SLACK - FINGER_SLACK,
+                                                                 abs=1e-6)
+        assert _finger_opening(world) == pytest.approx([radius + RELEASE_SLACK] * 2, abs=3e-3)
+        world.hits(q.q)
+        assert _finger_opening(world) == pytest.approx([world.model.finger_open] * 2)
+    finally:
+        world.restore(s0)

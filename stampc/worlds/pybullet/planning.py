@@ -72,7 +72,7 @@ def bad_bodies(world: PyBulletWorld, q: Sequence[float], stretch: str,
                held: str | None, target: str | None, released: str | None) -> frozenset[int]:
     """Bodies hit at ``q`` that count as collisions in the given stretch
     (``"retreat"``, ``"middle"`` or ``"approach"``)."""
-    robot_hits, held_hits = world.hits(q)
+    robot_hits, held_hits = world.hits(q, stretch)
     if stretch == "retreat":
         robot_hits = robot_hits - _ids(world, released)
         held_hits = held_hits - world.static_ids

@@ -3,10 +3,12 @@ arm states, object poses, UAV) and the runtime handle of a robot body."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from typing import Sequence
 
 from stampc.worlds.pybullet.scene import RobotModel, RobotSpec
-from stampc.worlds.pybullet.values import Pose
+from stampc.worlds.pybullet.values import Pose, quat_conjugate, quat_rotate
 
 
 @dataclass(frozen=True)
@@ -19,6 +21,15 @@ class Geometry:
     @property
     def height(self) -> float:
         return self.dims[1] if self.kind == "cylinder" else self.dims[2]
+
+    def half_extent(self, quat: Sequence[float], axis: Sequence[float]) -> float:
+        """Half the object's extent along unit ``axis``, the object turned by ``quat``
+        (both in one frame): how far apart closed fingers stand along ``axis``."""
+        local = quat_rotate(quat_conjugate(quat), axis)  # the axis in the object's frame
+        if self.kind == "cylinder":
+            along = min(1.0, abs(local[2]))
+            return along * self.dims[1] / 2 + self.dims[0] * math.sqrt(1.0 - along * along)
+        return sum(abs(c) * d / 2 for c, d in zip(local, self.dims))
 
     @property
     def footprint(self) -> float:

@@ -24,6 +24,9 @@ from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 __all__ = ["PyBulletWorld", "WorldState", "ArmState", "Arm", "Geometry", "PENETRATION",
            "G_ROBOT", "G_HELD", "G_MOVABLE", "G_STATIC", "G_UAV"]
 
+#: m each finger stands off the held object's side, and off the one just let go
+FINGER_SLACK, RELEASE_SLACK = 0.001, 0.005
+_CLOSING = (0.0, 1.0, 0.0)  # the fingers close along the end-effector frame's y axis
 # collision filter groups (bit masks)
 G_ROBOT, G_HELD, G_MOVABLE, G_STATIC, G_UAV = 1, 2, 4, 8, 16
 #: contacts shallower than this (m) are resting contacts, not collisions
@@ -63,6 +66,8 @@ class PyBulletWorld:
         self.uav = self._add_uav() if spec.uav is not None else -1
         self._placed: dict[str, Pose] = {}
         self._bases: dict[str, Pose] = {}
+        #: per arm: the finger opening in its state and during its retreat
+        self._openings: dict[int, tuple[float, float]] = {}
         poses = tuple((o.name, Pose.of(o.position, quat_from_yaw(o.yaw))) for o in spec.objects)
         arms = tuple(ArmState(a.model.rest, Pose.of(a.spec.base, quat_from_yaw(a.spec.yaw)),
                               a.spec.start) for a in self.arms.values())
@@ -204,7 +209,7 @@ class PyBulletWorld:
             p.setCollisionFilterGroupMask(body, link, G_ROBOT, mask, physicsClientId=cid)
         infos = [p.getJointInfo(body, j, physicsClientId=cid) for j in model.arm_joints]
         self.name_of[body] = spec.name
-        for j in model.finger_joints:  # fingers stay open: conservative for collisions
+        for j in model.finger_joints:  # open; closed on a held object (_grip_openings)
             p.resetJointState(body, j, model.finger_open, physicsClientId=cid)
         movable = tuple(j for j in range(n_joints)
                         if p.getJointInfo(body, j, physicsClientId=cid)[2] != p.JOINT_FIXED)
@@ -291,6 +296,8 @@ class PyBulletWorld:
         for index, arm in enumerate(state.arms):
             self._place_base(self._arm_order[index], arm.base, force)
             self._set_joints(index, arm.q)
+            self._openings[index] = self._grip_openings(index)
+            self._apply_fingers(index, self._openings[index][0])
         if self.uav >= 0 and state.uav is not None:
             p.resetBasePositionAndOrientation(self.uav, state.uav.pos, state.uav.quat,
                                               physicsClientId=self.client)
@@ -373,6 +380,30 @@ class PyBulletWorld:
                                               physicsClientId=self.client)
             self._placed.pop(state.held, None)  # the body left its recorded pose
 
+    def _grip_openings(self, index: int) -> tuple[float, float]:
+        """The finger opening of arm ``index`` in its state (closed on the held object,
+        ``FINGER_SLACK`` wider; else wide open) and during the retreat that starts
+        there (around the object just let go, ``RELEASE_SLACK`` wider). Fully open
+        fingers around a held plank reach 2 cm past it: into the next tower's plank on
+        Keva's 3-towers, a collision no real hand has."""
+        arm, state = self.arms[self._arm_order[index]], self._state.arms[index]
+        wide = arm.model.finger_open
+        if state.held is not None and state.grip is not None and state.held in self.geometry:
+            held = min(wide, self.geometry[state.held].half_extent(state.grip.quat, _CLOSING)
+                       + FINGER_SLACK)
+            return held, held
+        if state.released is not None and state.released in self.geometry:
+            turn = self._ee_pose(arm).inverse().multiply(self._state.pose(state.released))
+            return wide, min(wide, self.geometry[state.released].half_extent(turn.quat, _CLOSING)
+                             + RELEASE_SLACK)
+        return wide, wide
+
+    def _apply_fingers(self, index: int, opening: float) -> None:
+        """Set every time: physics (execution's settling) may have pushed the fingers."""
+        arm = self.arms[self._arm_order[index]]
+        for j in arm.model.finger_joints:
+            p.resetJointState(arm.body, j, opening, physicsClientId=self.client)
+
     def ee_pose(self) -> Pose:
         arm = self.active_arm
         assert arm is not None
@@ -384,8 +415,13 @@ class PyBulletWorld:
         return Pose(tuple(ls[4]), tuple(ls[5]))
 
     # ------------------------------------------------------------------ collisions
-    def hits(self, q: tuple[float, ...] | list[float]) -> tuple[frozenset[int], frozenset[int]]:
-        """Bodies the robot and the held object penetrate at ``q`` (robot id = self-hit)."""
+    def hits(self, q: tuple[float, ...] | list[float], stretch: str = "middle"
+             ) -> tuple[frozenset[int], frozenset[int]]:
+        """Bodies the robot and the held object penetrate at ``q`` (robot id = self-hit);
+        in a trajectory's ``"retreat"`` stretch the fingers are as they let go."""
+        index = self._state.active
+        if index in self._openings:
+            self._apply_fingers(index, self._openings[index][stretch == "retreat"])
         self.set_arm(q)
         return self.contacts()
 
