@@ -48,8 +48,9 @@ PRE_PLACE = (0.1, 0.07, 0.04, 0.025)
 PLACE_IK = IkSettings(restarts=8, refinements=5, pos_tol=0.004, ang_tol=0.02)
 RETRY_IK = IkSettings(restarts=24, refinements=5, pos_tol=0.004, ang_tol=0.02)
 PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
-#: IK solutions tried per put pose for one clear of the planks (the first from rest)
-PUT_TRIES = 4
+#: rounds of IK over the put pose's variants for configs clear of the planks: the first
+#: from the rest config, the others from within NEAR_REST rad of it
+PUT_TRIES, NEAR_REST = 4, 0.5
 AT_TOL = 0.01  # m: a body within this of a feed or role position is there
 #: rotations mapping a box onto itself (identity, half turns about its axes)
 SYMMETRIES = (Pose((0.0, 0.0, 0.0)),
@@ -141,49 +142,69 @@ def _put(ctx: Context, a: str, r: str, o: str,
 def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random.Random],
             turns: tuple[Pose, ...] = ()) -> Iterator[tuple[Pose, Config]]:
     """Configs of arm ``a`` putting its plank at ``target`` up to the box's symmetry
-    (and the extra ``turns``). IK first draws from an RNG seeded by ``seeds[0]`` and
-    the arm — same inputs, same config (see the module docstring); only if that finds
-    nothing, from the call's own RNG ``seeds[1]`` with more restarts (a retry of the
-    engine then draws fresh samples)."""
+    (and the extra ``turns``), each touching no plank at the put or along its vertical
+    approach. IK first draws from an RNG seeded by ``seeds[0]`` and the arm — same
+    inputs, same config (see the module docstring); only if that finds nothing, from
+    the call's own RNG ``seeds[1]`` with more restarts (a retry of the engine then draws
+    fresh samples). Each RNG first tries IK from the rest config for every variant, and
+    only if none is clear, from configs near rest (``PUT_TRIES`` rounds); the configs
+    of a round come least bent first. IK's own restarts may still find a contorted
+    config from which the arm cannot go home, and stays in the way of the next pick
+    (Keva 3π seed 0 lost every run to one, offered first, when the clear-of-planks
+    check had removed the config before it)."""
     state = world.state
     if state.held is None or state.grip is None:
         return
     variants = SYMMETRIES + tuple(t.multiply(s) for t in turns for s in SYMMETRIES[:2])
-    found = False
+    robot, base = manipulation._owner(world)
     for rng, ik in ((random.Random(f"{seeds[0]}:{a}"), PLACE_IK), (seeds[1], RETRY_IK)):
-        for sym in variants:
-            p = target.multiply(sym)
-            raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
-            hand = raised.multiply(state.grip.inverse())
-            world.select(a)
-            q, pre = _clear_put_config(world, hand, rng, ik)
-            world.set_arm(state.q)
-            if q is not None and pre is not None:
-                found = True
-                robot, base = manipulation._owner(world)
-                yield p, Config.of(q, obj=state.held, pre=pre, robot=robot, base=base)
-        if found:
-            return
+        for attempt in range(PUT_TRIES):
+            found: list[tuple[Pose, Config]] = []
+            for sym in variants:
+                p = target.multiply(sym)
+                raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
+                hand = raised.multiply(state.grip.inverse())
+                world.select(a)
+                seed_q = _near_rest(world, rng) if attempt else None
+                q, pre = _clear_put_config(world, hand, rng, ik, seed_q)
+                world.set_arm(state.q)
+                if q is not None and pre is not None:
+                    found.append((p, Config.of(q, obj=state.held, pre=pre, robot=robot,
+                                               base=base)))
+            if found:  # least bent first: the arm goes home from there (_go_home)
+                yield from sorted(found, key=lambda pc: _bend(world, pc[1].q))
+                return
 
 
-def _clear_put_config(world: PyBulletWorld, hand: Pose, rng: random.Random, ik: IkSettings
+def _bend(world: PyBulletWorld, q: tuple[float, ...]) -> float:
+    """How far ``q`` is from the rest config (the largest joint difference, rad)."""
+    assert world.model is not None
+    return max(abs(v - r) for v, r in zip(q, world.model.rest))
+
+
+def _near_rest(world: PyBulletWorld, rng: random.Random) -> tuple[float, ...]:
+    """An IK start within ``NEAR_REST`` rad of the rest config in every joint."""
+    assert world.model is not None
+    return tuple(min(hi, max(lo, r + rng.uniform(-NEAR_REST, NEAR_REST)))
+                 for r, lo, hi in zip(world.model.rest, world.lower, world.upper))
+
+
+def _clear_put_config(world: PyBulletWorld, hand: Pose, rng: random.Random, ik: IkSettings,
+                      seed_q: tuple[float, ...] | None
                       ) -> tuple[tuple[float, ...] | None, tuple[float, ...] | None]:
-    """An IK config for ``hand`` and its pre-place config whose arm, at the put and along
-    the vertical approach, touches no plank (``PUT_TRIES`` IK solutions, the first from
-    the rest config). The planks a put-down can meet are the structure's, and no action
-    ever moves them again: a config in one of them (the hand in the neighbouring plank
-    of a tall tower's level, measured from level 18 of tower-24 up) could only be
-    learned as a ``blocked`` trajectory, again on every re-sample, since the first IK
-    solution is deterministic."""
-    seed_q: tuple[float, ...] | None = None
-    for _ in range(PUT_TRIES):
-        q = solve_ik(world, hand, rng, seed_q=seed_q, settings=ik)
-        if q is None:
-            return None, None
-        pre = _pre_place(world, hand, q, rng)
-        if pre is not None and _clear_of_planks(world, q):
-            return q, pre
-        seed_q = tuple(rng.uniform(lo, hi) for lo, hi in zip(world.lower, world.upper))
+    """An IK config for ``hand`` (starting at ``seed_q``, else at rest) and its
+    pre-place config, if the arm touches no plank at the put and along the vertical
+    approach. The planks a put-down can meet are the structure's, and no action moves
+    them again: a config in one of them (the hand in the neighbouring plank of a tall
+    tower's level, from level 18 of tower-24 up) could only be learned as a
+    ``blocked`` trajectory, again on every re-sample, since IK from rest is
+    deterministic."""
+    q = solve_ik(world, hand, rng, seed_q=seed_q, settings=ik)
+    if q is None:
+        return None, None
+    pre = _pre_place(world, hand, q, rng)
+    if pre is not None and _clear_of_planks(world, q):
+        return q, pre
     return None, None
 
 
