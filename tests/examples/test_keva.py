@@ -224,18 +224,19 @@ def _clear_puts(world, ctx: Context, arm: str, role: st.Role) -> list[bool]:
     return out
 
 
-@pytest.mark.parametrize("structure,levels,upto", [("tower", 24, 37), ("tower", 24, 45),
-                                                   ("3towers", 4, 9)])
-def test_puts_next_to_built_planks_are_clear(structure, levels, upto):
-    """Seed 0 with roles r0..r{upto-1} built: some arm gets a put config for the next
-    role that touches no plank, with a plank-free trajectory to it, and every config
-    offered is one. Before: on tower-24 the first IK solution (deterministic per role,
-    the same on every re-sample) put the hand into the level's other plank from level
-    18 up (r37), and at level 22 (r45) no approach 4-10 cm above the put was within
-    reach; on 3-towers (r9) the fingers, modelled wide open around the held plank,
-    reached into the next tower's plank."""
-    roles = st.roles(structure, levels, 0)
-    world = open_world("pybullet", kv.build(structure, levels, 0), seed=0)
+@pytest.mark.parametrize("structure,levels,seed,upto", [
+    ("tower", 24, 0, 37), ("tower", 24, 0, 45), ("tower", 24, 2, 47), ("3towers", 4, 0, 9)])
+def test_puts_next_to_built_planks_are_clear(structure, levels, seed, upto):
+    """Roles r0..r{upto-1} built: some arm gets a put config for the next role that
+    touches no plank, with a plank-free trajectory to it, and every config offered is
+    one. Before: on tower-24 the first IK solution (deterministic per role, the same on
+    every re-sample) put the hand into the level's other plank from level 18 up (r37),
+    at level 22 (r45) no approach 4-10 cm above the put was within reach, and on seed
+    2's farther site only the left arm reaches the top plank, 1.5-2 cm above it (r47);
+    on 3-towers (r9) the fingers, modelled wide open around the held plank, reached
+    into the next tower's plank."""
+    roles = st.roles(structure, levels, seed)
+    world = open_world("pybullet", kv.build(structure, levels, seed), seed=0)
     try:
         ctx = Context(world=world, rng=random.Random(0))
         bodies = sorted(keva._meta_supply(world), key=lambda n: int(n[1:]))

@@ -43,7 +43,7 @@ GRASP_DEPTH = 0.008  # m the fingertips reach below the plank's top face
 #: plank never touches the planks below)
 PLACE_CLEARANCE = 0.006
 #: m above the place pose where the straight vertical approach may start (first that works)
-PRE_PLACE = (0.1, 0.07, 0.04, 0.025)
+PRE_PLACE = (0.1, 0.07, 0.04, 0.025, 0.015)
 #: accurate IK for put-downs (PyBullet's IK plateaus around 2 mm, often more)
 PLACE_IK = IkSettings(restarts=8, refinements=5, pos_tol=0.004, ang_tol=0.02)
 RETRY_IK = IkSettings(restarts=24, refinements=5, pos_tol=0.004, ang_tol=0.02)
