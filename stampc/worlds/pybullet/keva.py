@@ -158,9 +158,11 @@ def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random
     variants = SYMMETRIES + tuple(t.multiply(s) for t in turns for s in SYMMETRIES[:2])
     robot, base = manipulation._owner(world)
     for rng, ik in ((random.Random(f"{seeds[0]}:{a}"), PLACE_IK), (seeds[1], RETRY_IK)):
+        live = variants  # variants IK reached in the last round: only those are retried
         for attempt in range(PUT_TRIES):
             found: list[tuple[Pose, Config]] = []
-            for sym in variants:
+            reached = []
+            for sym in live:
                 p = target.multiply(sym)
                 raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
                 hand = raised.multiply(state.grip.inverse())
@@ -168,12 +170,15 @@ def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random
                 seed_q = _near_rest(world, rng) if attempt else None
                 q, pre = _clear_put_config(world, hand, rng, ik, seed_q)
                 world.set_arm(state.q)
+                if q is not None:
+                    reached.append(sym)
                 if q is not None and pre is not None:
                     found.append((p, Config.of(q, obj=state.held, pre=pre, robot=robot,
                                                base=base)))
             if found:  # least bent first: the arm goes home from there (_go_home)
                 yield from sorted(found, key=lambda pc: _bend(world, pc[1].q))
                 return
+            live = tuple(reached)
 
 
 def _bend(world: PyBulletWorld, q: tuple[float, ...]) -> float:
@@ -192,20 +197,18 @@ def _near_rest(world: PyBulletWorld, rng: random.Random) -> tuple[float, ...]:
 def _clear_put_config(world: PyBulletWorld, hand: Pose, rng: random.Random, ik: IkSettings,
                       seed_q: tuple[float, ...] | None
                       ) -> tuple[tuple[float, ...] | None, tuple[float, ...] | None]:
-    """An IK config for ``hand`` (starting at ``seed_q``, else at rest) and its
-    pre-place config, if the arm touches no plank at the put and along the vertical
-    approach. The planks a put-down can meet are the structure's, and no action moves
-    them again: a config in one of them (the hand in the neighbouring plank of a tall
-    tower's level, from level 18 of tower-24 up) could only be learned as a
-    ``blocked`` trajectory, again on every re-sample, since IK from rest is
-    deterministic."""
+    """An IK config for ``hand`` (starting at ``seed_q``, else at rest; None: out of
+    reach) and its pre-place config (None unless the arm touches no plank at the put
+    and along the vertical approach). The planks a put-down can meet are the
+    structure's, and no action moves them again: a config in one of them (the hand in
+    the neighbouring plank of a tall tower's level, from level 18 of tower-24 up) could
+    only be learned as a ``blocked`` trajectory, again on every re-sample, since IK from
+    rest is deterministic."""
     q = solve_ik(world, hand, rng, seed_q=seed_q, settings=ik)
     if q is None:
         return None, None
     pre = _pre_place(world, hand, q, rng)
-    if pre is not None and _clear_of_planks(world, q):
-        return q, pre
-    return None, None
+    return q, pre if pre is not None and _clear_of_planks(world, q) else None
 
 
 def _clear_of_planks(world: PyBulletWorld, q: tuple[float, ...]) -> bool:
