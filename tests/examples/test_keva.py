@@ -294,7 +294,10 @@ def test_refine_pi1_to_full_coverage_and_replay(tmp_path):
 @pytest.mark.slow
 def test_refine_3pi_to_full_coverage_and_replay(tmp_path):
     run = _refine_and_replay(tmp_path, "pi", 3, 0, 600)
-    assert run.result.refined_nodes <= 200  # branches merge: no 2^9 tree of refinements
+    # branches merge: no tree of 2^9 paths of 27 refinements each. 362 since the put-downs
+    # were made clear of the built planks (192 before): an upright leg is put turned in
+    # some branches and not in others, which then no longer merge (docs/benchmarks.md)
+    assert run.result.refined_nodes <= 400
 
 
 @pytest.mark.slow

@@ -33,7 +33,7 @@ from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation
 from stampc.worlds.pybullet.kinematics import IkSettings, solve_ik, top_grasp
-from stampc.worlds.pybullet.planning import CHECK_RESOLUTION, interpolate
+from stampc.worlds.pybullet.planning import CHECK_RESOLUTION, counts, interpolate, sweep
 from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
                                            as_traj, quat_from_axis_angle)
 from stampc.worlds.pybullet.world import PyBulletWorld
@@ -51,6 +51,7 @@ PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
 #: rounds of IK over the put pose's variants for configs clear of the planks: the first
 #: from the rest config, the others from within NEAR_REST rad of it
 PUT_TRIES, NEAR_REST = 4, 0.5
+HOME_RESOLUTION = 0.05  # rad: the way-home check that orders put configs
 AT_TOL = 0.01  # m: a body within this of a feed or role position is there
 #: rotations mapping a box onto itself (identity, half turns about its axes)
 SYMMETRIES = (Pose((0.0, 0.0, 0.0)),
@@ -173,12 +174,37 @@ def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random
                 if q is not None:
                     reached.append(sym)
                 if q is not None and pre is not None:
-                    found.append((p, Config.of(q, obj=state.held, pre=pre, robot=robot,
-                                               base=base)))
-            if found:  # least bent first: the arm goes home from there (_go_home)
-                yield from sorted(found, key=lambda pc: _bend(world, pc[1].q))
+                    c = Config.of(q, obj=state.held, pre=pre, robot=robot, base=base)
+                    found.append((_preference(world, p, c, sym in SYMMETRIES), p, c))
+            if found:
+                yield from ((p, c) for _, p, c in sorted(found, key=lambda f: f[0]))
                 return
             live = tuple(reached)
+
+
+def _preference(world: PyBulletWorld, p: Pose, c: Config, unturned: bool
+                ) -> tuple[bool, bool, float]:
+    """Sort key of a clear put config: first those from which the arm goes straight
+    home (what ``put`` does next; otherwise it may stay in the way of the next pick:
+    Keva 3π seed 0), then the role's own pose before a quarter-turned one (a plank put
+    turned rests elsewhere, and branches filling the role would no longer merge: 3π
+    refined 4x the nodes), then the least bent."""
+    return (not _goes_home_straight(world, p, c), not unturned, _bend(world, c.q))
+
+
+def _goes_home_straight(world: PyBulletWorld, p: Pose, c: Config) -> bool:
+    """After letting the plank go at ``p`` from ``c``, the straight retreat and the
+    straight joint path to the rest config touch nothing (checked at ``HOME_RESOLUTION``:
+    an ordering heuristic; ``put`` itself checks at full resolution)."""
+    assert world.model is not None
+    before, k = world.snapshot(), world.state.held
+    try:
+        world.update(q=c.q, held=None, grip=None, retreat=c.pre, released=k,
+                     poses=world.with_object_pose(k, p) if k is not None else world.state.poses)
+        home = Traj((c.q, c.pre or c.q, tuple(world.model.rest)), released=k, retreat_end=1)
+        return not counts(world, sweep(world, home, HOME_RESOLUTION, stop_on_hit=True), False)
+    finally:
+        world.restore(before)
 
 
 def _bend(world: PyBulletWorld, q: tuple[float, ...]) -> float:
