@@ -295,8 +295,9 @@ def test_refine_pi1_to_full_coverage_and_replay(tmp_path):
 def test_refine_3pi_to_full_coverage_and_replay(tmp_path):
     run = _refine_and_replay(tmp_path, "pi", 3, 0, 600)
     # branches merge: no tree of 2^9 paths of 27 refinements each. 362 since the put-downs
-    # were made clear of the built planks (192 before): an upright leg is put turned in
-    # some branches and not in others, which then no longer merge (docs/benchmarks.md)
+    # were made clear of the built planks (192 before): with some arm and grip no unturned
+    # config of leg r1 lets the arm go straight home, so r1 is put turned in those
+    # branches and not in others, which then do not merge (docs/benchmarks.md)
     assert run.result.refined_nodes <= 400
 
 
