@@ -145,3 +145,30 @@ def test_explore_may_pick_an_ancestor_resample_as_well_as_a_random_action():
         kinds.append([e.kind for e in events])
     assert kinds[0] == kinds[1]
     assert "resample" in kinds[0] and "explore" in kinds[0]
+
+
+def test_a_merge_that_closes_a_loop_with_no_way_out_is_refused_and_banned():
+    """If the outcomes of a refined action would merge into a node from which no leaf is
+    reachable (a hand-over that brings the state back to an ancestor's, on Keva), the
+    refinement is not committed: the node keeps its old children and no sigma, the
+    action is banned in its abstract state and the SSP replanned. The merge is forced
+    here: every outcome's concrete state is taken to be the root's."""
+    model = stampc.load_model([DATA / "store.stamp", DATA / "store1.stamp"])
+    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
+    engine = Engine(stampc.ground(model), world, resolve_model(model, world.package),
+                    RefineOptions(**OPTIONS, time_limit=60))
+    try:
+        events = engine.run()
+        assert next(events).kind == "start"
+        graph = engine.prg.nodes[engine.current]["graph"]
+        root = graph[graph.root]
+        children = [e.child for e in root.edges]
+        assert children and root.uid not in children
+        engine._merge_target = lambda graph, state, key: root.uid  # every outcome = root
+        kind, _ = engine._refine(graph, (root.uid,))
+        assert any("close a loop with no way out" in note for note in engine._notes)
+        assert root.sigma is None and [e.child for e in root.edges] == children
+        assert (root.state, root.action) in engine.planner.forbidden
+        assert kind != "refined"
+    finally:
+        world.close()
