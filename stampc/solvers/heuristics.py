@@ -155,14 +155,14 @@ class RelaxedModel:
         #: the useful literals the initial state lacks, derived the same way (_open_literals)
         self.ref_open = frozenset(iter_bits(self.useful & ~relaxed_state(self.ref_state, n,
                                                                          self.full)))
-        #: h_max by layers when every relaxed action costs the same positive amount
-        self.layered = (LayeredHmax(self, self.uniform_cost)
-                        if self.uniform_cost is not None and self.uniform_cost > 0 else None)
         #: useful literal -> the relaxed actions adding it, in index order
         self.adders: dict[int, list[int]] = {}
         for i, add in enumerate(self.add_masks):
             for g in iter_bits(add & self.useful):
                 self.adders.setdefault(g, []).append(i)
+        #: h_max by layers when every relaxed action costs the same positive amount
+        self.layered = (LayeredHmax(self, self.uniform_cost)
+                        if self.uniform_cost is not None and self.uniform_cost > 0 else None)
 
 
 def _count_lacking(rm: RelaxedModel, literals: int) -> list[int]:

@@ -11,6 +11,11 @@ one expansion in a row, and siblings differ in a few facts (exploding blocksworl
 5.5 flips from the previous state against 24 from the initial state), so the correction
 is short. The set of actions with no missing precondition (the first layer's supporters)
 is carried along the same way, instead of a scan over every counter.
+
+Only *relevant* relaxed actions take part: those adding a goal literal or a precondition
+literal of a relevant action (backwards from the goal, once per model). The others can
+never support the goal, so dropping them changes no value (exploding blocksworld: 200 of
+300 relaxed actions are relevant).
 """
 
 from __future__ import annotations
@@ -27,6 +32,25 @@ class _Relaxed(Protocol):  # the fields of heuristics.RelaxedModel read here
     goal_mask: int
     ref_state: int
     ref_counts: list[int]
+    pres: list[tuple[int, ...]]
+    adders: dict[int, list[int]]
+
+
+def relevant_actions(rm: _Relaxed) -> set[int]:
+    """Relaxed actions that add a goal literal or a precondition literal of a relevant
+    action (a backward fixpoint from the goal)."""
+    relevant: set[int] = set()
+    seen = {g for g in range(2 * rm.n) if (rm.goal_mask >> g) & 1}
+    stack = list(seen)
+    while stack:
+        for i in rm.adders.get(stack.pop(), ()):
+            if i not in relevant:
+                relevant.add(i)
+                for p in rm.pres[i]:
+                    if p not in seen:
+                        seen.add(p)
+                        stack.append(p)
+    return relevant
 
 
 class LayeredHmax:
@@ -35,15 +59,18 @@ class LayeredHmax:
 
     def __init__(self, rm: _Relaxed, unit: float):
         self.n, self.full, self.unit = rm.n, rm.full, unit
-        self.users: Sequence[list[int]] = rm.users
+        relevant = relevant_actions(rm)
+        #: literal -> the relevant relaxed actions needing it
+        self.users: Sequence[list[int]] = [[i for i in u if i in relevant] for u in rm.users]
         self.add_masks: Sequence[int] = rm.add_masks
         self.goal = rm.goal_mask
-        #: literals some relaxed action needs: the only ones whose users are walked
-        self.has_users = sum(1 << lit for lit, u in enumerate(rm.users) if u)
+        #: literals some relevant action needs: the only ones whose users are walked
+        self.has_users = sum(1 << lit for lit, u in enumerate(self.users) if u)
         # the reference: the last state evaluated, its counters and zero-counter actions
+        # (the counters of irrelevant actions are never read)
         self.ref_state = rm.ref_state
         self.ref_counts = list(rm.ref_counts)
-        self.ref_zero = {i for i, c in enumerate(rm.ref_counts) if not c}
+        self.ref_zero = {i for i, c in enumerate(rm.ref_counts) if not c and i in relevant}
 
     def _counts(self, state: int) -> tuple[list[int], set[int]]:
         """Missing-precondition counters of ``state`` and the actions at 0, from the
