@@ -90,13 +90,12 @@ def _transfer(warm: Solution, learned: tuple[int, int]):
     return lookup
 
 
-def _canonical(model: GroundModel, options: SolverOptions):
-    """The orbit representative map when ``options.symmetry`` applies, else None."""
+def _symmetry(model: GroundModel, options: SolverOptions):
+    """The interchangeable object classes when ``options.symmetry`` applies, else None."""
     if not options.symmetry or options.forbidden:
         return None
     from stampc.solvers.symmetry import find_symmetry
-    symmetry = find_symmetry(model)
-    return symmetry.canonical if symmetry else None
+    return find_symmetry(model) or None
 
 
 def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None,
@@ -118,7 +117,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
         cache, h = old.space.cache, old.space.h
         warm_values = dict(old.V)
     else:
-        cache = SuccessorCache(model, options.unit_cost, _canonical(model, options))
+        cache = SuccessorCache(model, options.unit_cost, _symmetry(model, options))
         h = make_heuristic(options.heuristic, model, options.unit_cost, options.weight)
         warm_values = transfer = None
     guide = steps = None

@@ -109,3 +109,27 @@ def test_simulation_and_actions_follow_representatives(ppddl_benchmarks):
     for s in list(full.search.V)[:200]:
         a = sol.action(s)
         assert a is None or a in cache.applicable(s)
+
+
+@pytest.mark.parametrize("instance", ["ippc2008-zenotravel/p01.pddl",
+                                      "ippc2006-schedule/p02.pddl",
+                                      "ippc2008-search-and-rescue/p02-z5.pddl"])
+def test_incremental_representative_equals_the_full_one(ppddl_benchmarks, instance):
+    # successor(parent, s) re-reads only the objects whose facts changed: it must give
+    # canonical(s) for representatives and non-representatives as parents alike
+    from stampc.solvers.successors import SuccessorCache
+    model = _model(ppddl_benchmarks, instance)
+    symmetry = find_symmetry(model)
+    raw = SuccessorCache(model, True)
+    rng = random.Random(1)
+    states, seen = [model.init], {model.init}
+    for s in states:
+        if len(states) > 400:
+            break
+        for parent in (s, symmetry.canonical(s), _permute(model, symmetry, s, rng)):
+            for a in raw.applicable(parent):
+                for _, nxt, _ in raw.float_outcomes(parent, a):
+                    assert symmetry.successor(parent, nxt) == symmetry.canonical(nxt)
+                    if nxt not in seen:
+                        seen.add(nxt)
+                        states.append(nxt)
