@@ -45,6 +45,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--time-limit", type=positive_float, default=None,
                         help="seconds; stopping before convergence exits 3 (policy written)")
     parser.add_argument("--seed", type=int, default=0, help="seed for LRTDP and simulation")
+    parser.add_argument("--no-symmetry", action="store_true",
+                        help="do not merge states that differ by a permutation of "
+                             "interchangeable objects (default: merged, exact; the policy "
+                             "graph then lists one state per orbit)")
     parser.add_argument("--format", choices=("text", "json"), default="text")
     parser.add_argument("-o", "--output", metavar="FILE", help="write the policy as JSON")
     parser.add_argument("--dot", metavar="FILE", help="write the policy graph as Graphviz DOT")
@@ -110,7 +114,8 @@ def run(args: argparse.Namespace) -> int:
     options = SolverOptions(algorithm=args.algorithm, heuristic=args.heuristic,
                             epsilon=args.epsilon, dead_end_cost=args.dead_end_cost,
                             unit_cost=args.unit_cost, horizon=args.horizon,
-                            time_limit=args.time_limit, seed=args.seed, weight=args.weight)
+                            time_limit=args.time_limit, seed=args.seed, weight=args.weight,
+                            symmetry=not args.no_symmetry)
     start, cpu_start = time.perf_counter(), time.process_time()
     try:
         check_options(options)

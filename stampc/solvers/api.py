@@ -65,7 +65,7 @@ def _compatible(warm: Solution, model: GroundModel, options: SolverOptions,
     return (warm.search is not None and warm.search.space.cache.model is model
             and w.unit_cost == options.unit_cost and w.dead_end_cost == options.dead_end_cost
             and warm.horizon == horizon and w.heuristic == options.heuristic
-            and w.weight == options.weight
+            and w.weight == options.weight and w.symmetry == options.symmetry
             and w.forbidden <= options.forbidden)
 
 
@@ -90,6 +90,14 @@ def _transfer(warm: Solution, learned: tuple[int, int]):
     return lookup
 
 
+def _symmetry(model: GroundModel, options: SolverOptions):
+    """The interchangeable object classes when ``options.symmetry`` applies, else None."""
+    if not options.symmetry or options.forbidden:
+        return None
+    from stampc.solvers.symmetry import find_symmetry
+    return find_symmetry(model) or None
+
+
 def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None,
                  warm: Solution | None, learned: tuple[int, int] | None = None) -> Search:
     if warm is not None and _compatible(warm, model, options, horizon):
@@ -109,7 +117,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
         cache, h = old.space.cache, old.space.h
         warm_values = dict(old.V)
     else:
-        cache = SuccessorCache(model, options.unit_cost)
+        cache = SuccessorCache(model, options.unit_cost, _symmetry(model, options))
         h = make_heuristic(options.heuristic, model, options.unit_cost, options.weight)
         warm_values = transfer = None
     guide = steps = None

@@ -50,6 +50,9 @@ def summary(solution: Solution) -> dict:
             "horizon": solution.horizon,
             # the solver that ran: "dense" when solve_bounded chose it over LAO*
             "method": "dense" if solution.table is not None else solution.options.algorithm,
+            # interchangeable objects were found and states merged per orbit (symmetry.py)
+            "orbits": bool(solution.search is not None and solution.table is None
+                           and solution.search.space.cache.canonical is not None),
             "options": {k: v for k, v in asdict(solution.options).items() if k != "forbidden"}}
 
 

@@ -33,6 +33,7 @@ from typing import Callable, Iterator
 
 from stampc.ir.grounded import GAnd, GEffect, GFormula, GLit, GroundCondition, GroundModel
 from stampc.ir.masks import indices
+from stampc.solvers.layered import LayeredHmax
 from stampc.solvers.names import ADMISSIBLE, HEURISTICS  # noqa: F401  (re-exported)
 from stampc.solvers.successors import iter_bits
 
@@ -159,6 +160,9 @@ class RelaxedModel:
         for i, add in enumerate(self.add_masks):
             for g in iter_bits(add & self.useful):
                 self.adders.setdefault(g, []).append(i)
+        #: h_max by layers when every relaxed action costs the same positive amount
+        self.layered = (LayeredHmax(self, self.uniform_cost)
+                        if self.uniform_cost is not None and self.uniform_cost > 0 else None)
 
 
 def _count_lacking(rm: RelaxedModel, literals: int) -> list[int]:
@@ -225,39 +229,6 @@ def _open_adds(rm: RelaxedModel, open_literals: set[int]) -> dict[int, list[int]
     return out
 
 
-def _hmax_layered(rm: RelaxedModel, state: int, unit: float) -> float:
-    """h_max when every relaxed action costs ``unit``: breadth-first over literal layers
-    (as bitmasks), stopping at the first layer that contains the goal."""
-    reached = relaxed_state(state, rm.n, rm.full)
-    goal = rm.goal_mask
-    if reached & goal == goal:
-        return 0.0
-    counts = _open_counts(rm, state)
-    users, add_masks = rm.users, rm.add_masks
-    new = 0
-    for i, c in enumerate(counts):
-        if not c:
-            new |= add_masks[i]
-    level = 0
-    while True:
-        new &= ~reached
-        if not new:
-            return math.inf
-        level += 1
-        reached |= new
-        if reached & goal == goal:
-            return level * unit
-        frontier, new = new, 0
-        while frontier:
-            low = frontier & -frontier
-            frontier ^= low
-            for i in users[low.bit_length() - 1]:
-                c = counts[i] - 1
-                counts[i] = c
-                if not c:
-                    new |= add_masks[i]
-
-
 def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     """Generalised Dijkstra over the literals not yet true; stops once every goal literal
     is settled. ``mode``: "max" (h_max), "add" (h_add) or "ff" (relaxed plan cost).
@@ -269,8 +240,8 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     the bits of a masked big int costs a 9 kB operation per bit."""
     if rm.goal_never:
         return math.inf
-    if mode == "max" and rm.uniform_cost is not None and rm.uniform_cost > 0:
-        return _hmax_layered(rm, state, rm.uniform_cost)
+    if mode == "max" and rm.layered is not None:
+        return rm.layered(state)
     # h_FF takes its supporters from the h_max propagation (as FF's planning graph does):
     # a max costs O(1) per relaxed action where a sum walks every precondition
     additive = mode == "add"

@@ -24,6 +24,7 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
     """
     search.seed(init)
     V, best, terminal, expanded = search.V, search.best, search.terminal, search.expanded
+    dead_end = search.dead_end_cost
     while init not in terminal:
         search.iterations += 1
         expansions = 0
@@ -34,9 +35,16 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
         reach = {init: 1.0}  # first-visit path probability (pruning only)
         while stack:
             x = stack.pop()
-            if x < 0:  # post-visit marker: Bellman backup
+            if x < 0:  # post-visit marker: Bellman backup (Search.greedy, inlined)
                 x = -x - 1
-                bq, bi = search.greedy(x)
+                bq, bi, i = dead_end, -1, 0
+                for _, c, probs, nexts in expanded[x]:
+                    q = c
+                    for p, n in zip(probs, nexts):
+                        q += p * V[n]
+                    if q < bq:
+                        bq, bi = q, i
+                    i += 1
                 old = V[x]
                 d = bq - old if bq > old else old - bq
                 if d > residual:

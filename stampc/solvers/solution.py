@@ -32,6 +32,11 @@ class SolverOptions:
     #: this (0: off). The result is a *partial* policy whose low-probability tips keep
     #: their heuristic values; the refinement engine plans them when it gets there.
     prune_probability: float = 0.0
+    #: Solve over orbit representatives of interchangeable objects (``symmetry.py``):
+    #: every next state becomes its orbit's representative (same optimal value). The
+    #: initial state is kept; the policy graph's other states are representatives.
+    #: Ignored with ``forbidden`` actions (they need not respect the symmetry).
+    symmetry: bool = False
 
 
 class PolicyTable(Protocol):

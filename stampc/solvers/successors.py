@@ -12,12 +12,15 @@ triggered by its true facts instead of scanning every action.
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 from stampc.ir.grounded import bits as iter_bits  # noqa: F401  (re-exported)
 from stampc.ir.grounded import GroundAction, GroundModel
 from stampc.ir.masks import FactSet, indices
 from stampc.solvers.float_effects import branches, compile_effect, condition_check, sample
+
+if TYPE_CHECKING:
+    from stampc.solvers.symmetry import ObjectSymmetry
 
 #: A solver transition: (action index, expected cost, probabilities, next states).
 Transition = tuple[int, float, tuple[float, ...], tuple[int, ...]]
@@ -36,11 +39,17 @@ class SuccessorCache:
 
     ``unit_cost=True`` makes every action cost 1 whatever the model declares (the
     convention of the C++ reference solver and of IPPC-2006 goal-probability domains).
+    ``symmetry`` (``symmetry.ObjectSymmetry``) replaces every next state by the
+    representative of its orbit under interchangeable objects (same optimal value).
     """
 
-    def __init__(self, model: GroundModel, unit_cost: bool = False):
+    def __init__(self, model: GroundModel, unit_cost: bool = False,
+                 symmetry: ObjectSymmetry | None = None):
         self.model = model
         self.unit_cost = unit_cost
+        self.symmetry = symmetry if symmetry else None
+        #: the orbit representative of a state, or None without symmetry
+        self.canonical = self.symmetry.canonical if self.symmetry else None
         self._checks = [condition_check(a.precondition) for a in model.actions]
         # Float outcome lists of state-independent actions, built on first use: models such
         # as rectangle-tireworld ground 10^5 actions of which a search touches few.
@@ -134,11 +143,17 @@ class SuccessorCache:
         if static is not None:
             close = self._close
             if close is not None:
-                return tuple((p, close((state & keep) | add), c) for p, add, keep, c in static)
-            return tuple((p, (state & keep) | add, c) for p, add, keep, c in static)
-        unit = self.unit_cost
-        return tuple((float(o.probability), o.apply(state), 1.0 if unit else float(o.cost))
-                     for o in self.model.actions[action].outcomes(state))
+                outs = tuple((p, close((state & keep) | add), c) for p, add, keep, c in static)
+            else:
+                outs = tuple((p, (state & keep) | add, c) for p, add, keep, c in static)
+        else:
+            unit = self.unit_cost
+            outs = tuple((float(o.probability), o.apply(state), 1.0 if unit else float(o.cost))
+                         for o in self.model.actions[action].outcomes(state))
+        if self.symmetry is None:
+            return outs
+        rep = self.symmetry.successor
+        return tuple((p, rep(state, n), c) for p, n, c in outs)
 
     def transitions(self, state: int, *, eliminate_self_loops: bool = True) -> tuple[Transition, ...]:
         """Solver transitions of ``state``: identical next states merged, expected cost.
@@ -171,7 +186,12 @@ class SuccessorCache:
         necessarily in the model's outcome order; solvers merge by next state anyway)."""
         outs = self._float_basic_outcomes(state, action)
         close = self._close
-        return outs if close is None else [(p, close(nxt), c) for p, nxt, c in outs]
+        if close is not None:
+            outs = [(p, close(nxt), c) for p, nxt, c in outs]
+        if self.symmetry is None:
+            return outs
+        rep = self.symmetry.successor
+        return [(p, rep(state, nxt), c) for p, nxt, c in outs]
 
     def sample_outcome(self, state: int, action: int, rng) -> tuple[int, float]:
         """(next state, cost) of one outcome drawn block by block (``float_effects.sample``),
@@ -183,7 +203,9 @@ class SuccessorCache:
         else:
             nxt = (state & ~delete) | add
         base = 1.0 if self.unit_cost else float(ground.base_cost)
-        return (nxt if self._close is None else self._close(nxt)), base + cost
+        if self._close is not None:
+            nxt = self._close(nxt)
+        return (nxt if self.symmetry is None else self.symmetry.successor(state, nxt)), base + cost
 
     def _compiled_effect(self, action: int):
         compiled = self._compiled.get(action)
