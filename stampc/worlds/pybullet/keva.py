@@ -148,11 +148,8 @@ def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random
     inputs, same config (see the module docstring); only if that finds nothing, from
     the call's own RNG ``seeds[1]`` with more restarts (a retry of the engine then draws
     fresh samples). Each RNG first tries IK from the rest config for every variant, and
-    only if none is clear, from configs near rest (``PUT_TRIES`` rounds); the configs
-    of a round come least bent first. IK's own restarts may still find a contorted
-    config from which the arm cannot go home, and stays in the way of the next pick
-    (Keva 3π seed 0 lost every run to one, offered first, when the clear-of-planks
-    check had removed the config before it)."""
+    only if none is clear, from configs near rest (``PUT_TRIES`` rounds, only for the
+    variants IK reached); a round's configs come in the order of :func:`_preference`."""
     state = world.state
     if state.held is None or state.grip is None:
         return
@@ -161,7 +158,7 @@ def _put_at(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random
     for rng, ik in ((random.Random(f"{seeds[0]}:{a}"), PLACE_IK), (seeds[1], RETRY_IK)):
         live = variants  # variants IK reached in the last round: only those are retried
         for attempt in range(PUT_TRIES):
-            found: list[tuple[Pose, Config]] = []
+            found: list[tuple[tuple[bool, bool, float], Pose, Config]] = []
             reached = []
             for sym in live:
                 p = target.multiply(sym)
