@@ -31,6 +31,14 @@ def run(**options):
     return engine, events
 
 
+def store_engine(**options):
+    """An engine on the store domain (plane2d), not yet started, and its world."""
+    model = stampc.load_model([DATA / "store.stamp", DATA / "store1.stamp"])
+    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
+    return Engine(stampc.ground(model), world, resolve_model(model, world.package),
+                  RefineOptions(**{**OPTIONS, **options})), world
+
+
 def test_without_resampling_the_blocked_packing_is_never_refined():
     engine, _ = run(max_resamples=0, time_limit=3)
     assert engine.result().coverage == 0.0 and engine.resamples == 0
@@ -110,10 +118,7 @@ def test_a_spent_prg_node_backtracks_instead_of_ending_the_run():
     stops the run."""
     from stampc.refine.graph import DEAD_END
 
-    model = stampc.load_model([DATA / "store.stamp", DATA / "store1.stamp"])
-    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
-    engine = Engine(stampc.ground(model), world, resolve_model(model, world.package),
-                    RefineOptions(**OPTIONS, time_limit=60))
+    engine, world = store_engine(time_limit=60)
     try:
         events = engine.run()
         assert next(events).kind == "start"
@@ -153,10 +158,7 @@ def test_a_merge_that_closes_a_loop_with_no_way_out_is_refused_and_banned():
     refinement is not committed: the node keeps its old children and no sigma, the
     action is banned in its abstract state and the SSP replanned. The merge is forced
     here: every outcome's concrete state is taken to be the root's."""
-    model = stampc.load_model([DATA / "store.stamp", DATA / "store1.stamp"])
-    world = open_world("plane2d", load_scene(model.problem, DATA), seed=0)
-    engine = Engine(stampc.ground(model), world, resolve_model(model, world.package),
-                    RefineOptions(**OPTIONS, time_limit=60))
+    engine, world = store_engine(time_limit=60)
     try:
         events = engine.run()
         assert next(events).kind == "start"
