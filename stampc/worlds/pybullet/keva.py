@@ -262,9 +262,7 @@ def _approach_clear_of_planks(world: PyBulletWorld, pre: tuple[float, ...],
                               q: tuple[float, ...]) -> bool:
     """The straight approach from ``pre`` to ``q`` touches no plank, swept at the
     resolution of the final trajectory check."""
-    others = world.movable_ids - _held_id(world)
-    return not any((robot | held) & others for robot, held in
-                   (world.hits(c) for c in interpolate(pre, q, CHECK_RESOLUTION)))
+    return all(_clear_of_planks(world, c) for c in interpolate(pre, q, CHECK_RESOLUTION))
 
 
 def motion(ctx: Context, a: str, q: Config) -> Iterator[tuple[Traj]]:

@@ -68,6 +68,8 @@ class PyBulletWorld:
         self._bases: dict[str, Pose] = {}
         #: per arm: the finger opening in its state and during its retreat
         self._openings: dict[int, tuple[float, float]] = {}
+        #: per arm: the opening its fingers stand at now
+        self._fingers: dict[int, float] = {}
         poses = tuple((o.name, Pose.of(o.position, quat_from_yaw(o.yaw))) for o in spec.objects)
         arms = tuple(ArmState(a.model.rest, Pose.of(a.spec.base, quat_from_yaw(a.spec.yaw)),
                               a.spec.start) for a in self.arms.values())
@@ -297,7 +299,7 @@ class PyBulletWorld:
             self._place_base(self._arm_order[index], arm.base, force)
             self._set_joints(index, arm.q)
             self._openings[index] = self._grip_openings(index)
-            self._apply_fingers(index, self._openings[index][0])
+            self._apply_fingers(index, self._openings[index][0], force=True)
         if self.uav >= 0 and state.uav is not None:
             p.resetBasePositionAndOrientation(self.uav, state.uav.pos, state.uav.quat,
                                               physicsClientId=self.client)
@@ -398,11 +400,17 @@ class PyBulletWorld:
                              + RELEASE_SLACK)
         return wide, wide
 
-    def _apply_fingers(self, index: int, opening: float) -> None:
-        """Set every time: physics (execution's settling) may have pushed the fingers."""
+    def _apply_fingers(self, index: int, opening: float, force: bool = False) -> None:
+        """Set the fingers of arm ``index`` unless they stand so already (each state
+        change forces it: execution's physics may have pushed them, and every settle
+        ends in one). Collision checks call this: resetting unchanged fingers cost
+        about 12 % of a check."""
+        if not force and self._fingers.get(index) == opening:
+            return
         arm = self.arms[self._arm_order[index]]
         for j in arm.model.finger_joints:
             p.resetJointState(arm.body, j, opening, physicsClientId=self.client)
+        self._fingers[index] = opening
 
     def ee_pose(self) -> Pose:
         arm = self.active_arm
