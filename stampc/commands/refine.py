@@ -30,9 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="probability of UpdateAbstraction mode (default 0.5)")
     parser.add_argument("--explore-probability", type=probability, default=0.05,
                         help="probability of the explore step (default 0.05)")
-    parser.add_argument("--ban-everywhere-after", type=count, default=0, metavar="K",
+    parser.add_argument("--ban-everywhere-after", type=count, default=3, metavar="K",
                         help="ban an action in every state once it found no usable sample in "
-                             "K states and never worked (default 0: off; docs/refine.md)")
+                             "K states and never worked (default 3; 0: off; docs/refine.md)")
     parser.add_argument("--heuristic", default="hadd", choices=("hadd", "hff", "hmax", "zero"),
                         help="abstract solver heuristic (default hadd, with an h_FF fallback "
                              "when it finds no way to the goal)")
