@@ -109,10 +109,12 @@ class GroundingContext:
                     unknown_marked.add(atom.predicate)
         #: derived predicates kept as axioms (recursive over fluents): per-state facts
         self.derived: frozenset[str] = frozenset(ax.predicate for ax in domain.axioms)
-        #: predicates no effect touches: evaluated at grounding time and compiled away
-        self.static: frozenset[str] = frozenset(set(self.predicates) - touched - self.derived)
         self.unknowable: frozenset[str] = frozenset(
             unknown_marked | {p.name for p in domain.predicates if p.unknowable})
+        #: predicates no effect touches: evaluated at grounding time and compiled away
+        #: (not a `? predicate`: no effect touches it, but refinement learns its facts)
+        self.static: frozenset[str] = frozenset(
+            set(self.predicates) - touched - self.derived - self.unknowable)
         #: unknowable predicates whose facts the abstraction assumes true
         self.optimistic_true: frozenset[str] = frozenset(
             p for p in self.unknowable if self.predicates[p].optimistic)

@@ -99,6 +99,9 @@ def domain_facts(info: DomainInfo) -> DomainFacts:
         numexpr_functions(a.cost, effects.functions)
     for pred, pols in effects.when_reads.items():
         reads.setdefault(pred, set()).update(pols)
+    for name, decl in info.predicates.items():
+        if decl.unknown:  # `? predicate`: unknown from the start, as if a `?` effect said so
+            effects.unknown.setdefault(name, decl.name.span)
     return DomainFacts(effects, reads)
 
 

@@ -231,6 +231,9 @@ class PredicateDecl:
     span: Span = _span()
     symmetric: bool = False
     derived: "Formula | None" = None
+    #: ``? predicate``: no action changes it, yet the abstraction does not know its value
+    #: (it assumes the optimistic one until refinement's evaluator decides a fact)
+    unknown: bool = False
 
 
 @dataclass(frozen=True, slots=True)

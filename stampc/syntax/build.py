@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from dataclasses import replace
 from fractions import Fraction
 
 from stampc.diagnostics import Span
@@ -90,6 +91,10 @@ class Builder(IndexBuilder):
         name, params = rest[1:] if symmetric else rest
         return ast.PredicateDecl(self.ident(name), tuple(params or ()), static, self.tspan(name),
                                  symmetric)
+
+    def unknown_predicate_decl(self, *children):
+        decl = self.predicate_decl(*children)
+        return replace(decl, unknown=True)
 
     def derived_decl(self, _kw, name, params, _define, body):
         return ast.PredicateDecl(self.ident(name), tuple(params or ()), False, self.tspan(name),

@@ -194,7 +194,8 @@ def format_decl(d: ast.Decl) -> list[str]:
         if d.derived is not None:
             return _hanging_derived(f"derived predicate {d.name.name}{params} :=",
                                     [fmt_formula(c) for c in conjuncts(d.derived)])
-        modifiers = ("static " if d.static else "") + ("symmetric " if d.symmetric else "")
+        modifiers = ("? " if d.unknown else "") + ("static " if d.static else "") \
+            + ("symmetric " if d.symmetric else "")
         return [f"{modifiers}predicate {d.name.name}{params}"]
     if isinstance(d, ast.FunctionDecl):
         return [f"function {d.name.name}{fmt_params(d.params) if d.params else ''}"]

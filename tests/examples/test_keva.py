@@ -204,6 +204,28 @@ def test_put_is_deterministic_and_only_where_the_structure_says():
         world.close()
 
 
+def test_reaches_is_decided_by_the_arm_and_feed_whether_a_plank_waits_or_not():
+    """The `? predicate reaches(a, f)` evaluator: the left arm reaches feed 1, not feed 2
+    past the right arm; with no plank at the feed it decides on the next supply plank set
+    there and leaves the world as it was; with one there it agrees with feed_grasp."""
+    world = open_world("pybullet", kv.build("tower", 2, 0), seed=0)
+    try:
+        ctx = Context(world=world, rng=random.Random(0))
+        before = world.snapshot()
+        answers = {(a, f): keva.reaches(ctx, a, f) for a in ("left", "right")
+                   for f in ("feed1", "feed2", "buffer")}
+        assert world.snapshot() == before
+        assert answers[("left", "feed1")] and answers[("right", "feed2")]
+        assert not answers[("left", "feed2")]
+        assert answers[("left", "buffer")] and answers[("right", "buffer")]
+        keva.bring(ctx, ConcreteAction("bring", {}, adds=(("waiting", ("feed2",)),)))
+        sure = Context(world=world, rng=random.Random(0), options={"ik_restarts": 20})
+        for arm in ("left", "right"):
+            assert keva.reaches(ctx, arm, "feed2") == bool(list(keva.feed_grasp(sure, arm, "feed2")))
+    finally:
+        world.close()
+
+
 def _clear_puts(world, ctx: Context, arm: str, role: st.Role) -> list[bool]:
     """For each put config the generator yields for ``arm`` (holding a fresh plank from
     feed 1): whether a trajectory to it exists that touches no plank."""

@@ -119,3 +119,43 @@ def test_load_together_pairs_domain_and_problem(tmp_path: Path) -> None:
     with pytest.raises(StampcError) as info:
         load_together([dom, bad])
     assert [d.code for d in info.value.diagnostics if d.is_error] == ["E307"]
+
+
+UNKNOWN_FIXED = """domain d
+type arm
+type feed
+constant left, right: arm
+constant f1, f2: feed
+? predicate reaches(a: arm, f: feed)
+static predicate near(a: arm, f: feed)
+predicate done(f: feed)
+action pick(a: arm, f: feed)
+    pre  reaches(a, f), near(a, f)
+    eff  done(f)
+"""
+
+
+def test_an_unknown_predicate_is_a_fluent_at_its_optimistic_value(tmp_path: Path) -> None:
+    """`? predicate`: no action changes it, yet it is neither static nor compiled away —
+    refinement learns its facts — and every fact starts at the optimistic value."""
+    import stampc
+    from stampc.semantics.api import parse
+    from stampc.syntax.fmt import format_program
+
+    domain = write(tmp_path, UNKNOWN_FIXED, "d.stamp")
+    problem = write(tmp_path, "problem p for d\ninit near(left, f1), near(right, f2)\n"
+                    "goal done(f1), done(f2)\n", "p.stamp")
+    loaded = load(domain)
+    assert [d.code for d in loaded.diagnostics] == []
+    reaches = next(p for p in lower_domain(loaded).predicates if p.name == "reaches")
+    assert reaches.unknowable and reaches.optimistic is True and not reaches.static
+    gm = stampc.ground(stampc.compile(str(domain), str(problem)))
+    facts = [(f.predicate, f.args) for f in gm.facts]
+    held = {facts[i] for i in range(len(facts)) if gm.init >> i & 1}
+    picks = {a.args: a for a in gm.actions if a.name == "pick"}
+    assert set(picks) == {("left", "f1"), ("right", "f2")}  # `near` is static: compiled away
+    assert {("reaches", args) for args in picks} <= held
+    bit = facts.index(("reaches", ("left", "f1")))
+    assert picks[("left", "f1")].precondition.pos >> bit & 1  # kept for refinement
+    formatted = format_program(parse(UNKNOWN_FIXED), UNKNOWN_FIXED)
+    assert "\n? predicate reaches(a: arm, f: feed)\n" in formatted

@@ -16,6 +16,7 @@ that order; a put-down gives the body in the hand a *role* of the structure.
   config), so policy branches that fill the same role share their concrete state;
 - ``.keva:motion(a, q)`` — the stdlib motion generator for arm ``a``;
 - ``.keva:blocked(t)`` — evaluator: trajectory ``t`` hits a plank;
+- ``.keva:reaches(a, f)`` — evaluator: arm ``a`` has a top grasp of a plank at feed ``f``;
 - ``.keva:bring`` — the next supply plank arrives at the outcome's feed;
 - ``.keva:pick`` — hold the plank at its grasp's nominal grip;
 - ``.keva:put`` — let go: the plank is set at its role's pose (the IK error of the hand,
@@ -25,6 +26,7 @@ that order; a put-down gives the body in the hand a *role* of the structure.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import random
 from typing import Any, Iterator, Mapping
@@ -53,6 +55,7 @@ PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
 PUT_TRIES, NEAR_REST = 4, 0.5
 HOME_RESOLUTION = 0.05  # rad: the way-home check that orders put configs
 AT_TOL = 0.01  # m: a body within this of a feed or role position is there
+FEED_IK_RESTARTS = 20  # the domain's feed_grasp option (the reaches evaluator matches it)
 #: rotations mapping a box onto itself (identity, half turns about its axes)
 SYMMETRIES = (Pose((0.0, 0.0, 0.0)),
               Pose((0.0, 0.0, 0.0), quat_from_axis_angle((0.0, 0.0, 1.0), math.pi)),
@@ -105,6 +108,25 @@ def feed_grasp(ctx: Context, a: str, f: str) -> Iterator[tuple[Grasp, Config]]:
         world.set_arm(world.state.q)
         if config is not None:
             yield g, config
+
+
+def reaches(ctx: Context, a: str, f: str) -> bool:
+    """Evaluator: whether arm ``a`` has a top grasp of a plank waiting at feed ``f`` (with
+    the IK restarts of the domain's ``feed_grasp``). Where none waits yet, it is decided on
+    the next supply plank set there, so a node knows it before the person brings one;
+    the world is left as it was."""
+    world = manipulation._world(ctx, a)
+    before = world.snapshot()
+    try:
+        if body_at(world, feed_pose(world, f)) is None:
+            k = _next_supply_plank(world)
+            if k is None:
+                return False  # nothing left to bring, so nothing to reach
+            world.update(poses=world.with_object_pose(k, feed_pose(world, f)))
+        sure = dataclasses.replace(ctx, options={**ctx.options, "ik_restarts": FEED_IK_RESTARTS})
+        return next(feed_grasp(sure, a, f), None) is not None
+    finally:
+        world.restore(before)
 
 
 def aside_place(ctx: Context, a: str) -> Iterator[tuple[Pose, Config]]:
@@ -289,15 +311,20 @@ def bring(ctx: Context, action: ConcreteAction) -> None:
     """The person puts the next supply plank (lowest index) at the outcome's feed."""
     world = manipulation._world(ctx)
     feeds = [str(args[0]) for name, args in action.adds if name == "waiting"]
-    supply = _meta_supply(world)
     for f in feeds:
-        k = next((n for n, pose in world.state.poses if n in supply
-                  and math.dist(pose.pos, supply[n]) <= AT_TOL), None)
+        k = _next_supply_plank(world)
         if k is None:
             raise StampcError([error("PB051", "the supply has no plank left to bring",
                                      Span.point("<scene meta>"),
                                      "give the scene one plank per role")])
         world.update(poses=world.with_object_pose(k, feed_pose(world, f)))
+
+
+def _next_supply_plank(world: PyBulletWorld) -> str | None:
+    """The plank the person brings next: the first still where the supply started it."""
+    supply = _meta_supply(world)
+    return next((n for n, pose in world.state.poses if n in supply
+                 and math.dist(pose.pos, supply[n]) <= AT_TOL), None)
 
 
 def _meta_supply(world: PyBulletWorld) -> dict[str, tuple[float, ...]]:
