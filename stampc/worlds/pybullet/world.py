@@ -3,9 +3,8 @@ collision-check primitive everything else is built on.
 
 Collision checks follow the fastest measured pattern (see docs/worlds-pybullet.md):
 ``resetJointStatesMultiDof`` + ``performCollisionDetection`` + ``getContactPoints`` with
-penetrating contacts only. Collision filter groups keep the broadphase to the pairs we
-ask about: the robot and the held object against movable objects and surfaces (and the
-robot against itself); objects resting on a table are never compared with each other.
+penetrating contacts only. The bodies are created in their collision filter groups by
+``bodies.py``, which keep the broadphase to the pairs we ask about.
 """
 
 from __future__ import annotations
@@ -16,8 +15,9 @@ from typing import Any, Mapping
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.pybullet._pb import p, pybullet_data, quiet_stdout
 
-from stampc.worlds.pybullet.scene import (ROBOT_MODELS, BoxSpec, ObjectSpec, RobotModel,
-                                          RobotSpec, SceneSpec)
+from stampc.worlds.pybullet import bodies
+from stampc.worlds.pybullet.bodies import G_HELD, G_MOVABLE, G_ROBOT, G_STATIC, G_UAV
+from stampc.worlds.pybullet.scene import BoxSpec, ObjectSpec, RobotModel, RobotSpec, SceneSpec
 from stampc.worlds.pybullet.state import ARM_FIELDS, Arm, ArmState, Geometry, WorldState
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 
@@ -27,8 +27,6 @@ __all__ = ["PyBulletWorld", "WorldState", "ArmState", "Arm", "Geometry", "PENETR
 #: m each finger stands off the held object's side, and off the one just let go
 FINGER_SLACK, RELEASE_SLACK = 0.001, 0.005
 _CLOSING = (0.0, 1.0, 0.0)  # the fingers close along the end-effector frame's y axis
-# collision filter groups (bit masks)
-G_ROBOT, G_HELD, G_MOVABLE, G_STATIC, G_UAV = 1, 2, 4, 8, 16
 #: contacts shallower than this (m) are resting contacts, not collisions
 PENETRATION = 1e-4
 
@@ -151,85 +149,21 @@ class PyBulletWorld:
         return body
 
     def _add_box(self, s: BoxSpec) -> int:
-        half = [v / 2.0 for v in s.size]
-        col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=self.client)
-        vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=s.color,
-                                  physicsClientId=self.client)
-        body = p.createMultiBody(0.0, col, vis, s.position, physicsClientId=self.client)
-        p.setCollisionFilterGroupMask(body, -1, G_STATIC, G_ROBOT | G_HELD | G_UAV,
-                                      physicsClientId=self.client)
-        return self._register(s.name, body)
+        return self._register(s.name, bodies.add_box(self.client, s))
 
     def _add_object(self, o: ObjectSpec) -> int:
-        cid = self.client
-        orn = quat_from_yaw(o.yaw)
-        if o.shape == "urdf":
-            try:
-                with quiet_stdout(not self.verbose):
-                    body = p.loadURDF(o.urdf, o.position, orn, globalScaling=o.scale,
-                                      physicsClientId=cid)
-            except p.error:
-                body = -1
-            if body < 0:
-                raise StampcError([error("PB002", f"cannot load URDF {o.urdf!r} for '{o.name}'",
-                                         Span.point("<scene objects>"),
-                                         "paths are relative to pybullet_data or absolute")])
-            p.changeDynamics(body, -1, mass=o.mass, physicsClientId=cid)
-            p.resetBasePositionAndOrientation(body, o.position, (0, 0, 0, 1), physicsClientId=cid)
-            lo, hi = p.getAABB(body, -1, physicsClientId=cid)
-            self.geometry[o.name] = Geometry("box", tuple(h - l for l, h in zip(lo, hi)))
-        else:
-            if o.shape == "cylinder":
-                r, h = o.dims
-                kw = {"shapeType": p.GEOM_CYLINDER, "radius": r}
-                col = p.createCollisionShape(height=h, physicsClientId=cid, **kw)
-                vis = p.createVisualShape(length=h, rgbaColor=o.color, physicsClientId=cid, **kw)
-            else:
-                half = [v / 2.0 for v in o.dims]
-                col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=cid)
-                vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=o.color,
-                                          physicsClientId=cid)
-            body = p.createMultiBody(o.mass, col, vis, o.position, orn, physicsClientId=cid)
-            self.geometry[o.name] = Geometry(o.shape, o.dims)
-        p.setCollisionFilterGroupMask(body, -1, G_MOVABLE, G_ROBOT | G_HELD | G_UAV,
-                                      physicsClientId=cid)
+        body, self.geometry[o.name] = bodies.add_object(self.client, o, self.verbose)
         return self._register(o.name, body)
 
     def _add_robot(self, spec: RobotSpec) -> Arm:
-        cid = self.client
-        model = ROBOT_MODELS[spec.model]
-        flags = p.URDF_USE_SELF_COLLISION if model.self_collision else 0
-        with quiet_stdout(not self.verbose):
-            body = p.loadURDF(model.urdf, spec.base, quat_from_yaw(spec.yaw),
-                              useFixedBase=True, flags=flags, physicsClientId=cid)
-        for a, b in model.ignored_self_pairs:
-            p.setCollisionFilterPair(body, body, a, b, 0, physicsClientId=cid)
-        # G_ROBOT in the mask: self-collision (if the URDF flag is on) and other robots
-        mask = G_MOVABLE | G_STATIC | G_ROBOT
-        n_joints = p.getNumJoints(body, physicsClientId=cid)
-        for link in range(-1, n_joints):
-            p.setCollisionFilterGroupMask(body, link, G_ROBOT, mask, physicsClientId=cid)
-        infos = [p.getJointInfo(body, j, physicsClientId=cid) for j in model.arm_joints]
-        self.name_of[body] = spec.name
-        for j in model.finger_joints:  # open; closed on a held object (_grip_openings)
-            p.resetJointState(body, j, model.finger_open, physicsClientId=cid)
-        movable = tuple(j for j in range(n_joints)
-                        if p.getJointInfo(body, j, physicsClientId=cid)[2] != p.JOINT_FIXED)
-        return Arm(spec.name, body, model, tuple(i[8] for i in infos),
-                   tuple(i[9] for i in infos), movable, spec)
+        arm = bodies.add_robot(self.client, spec, self.verbose)
+        self.name_of[arm.body] = spec.name
+        return arm
 
     def _add_uav(self) -> int:
-        u = self.spec.uav
-        assert u is not None
-        half = [v / 2.0 for v in u.size]
-        col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=self.client)
-        vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=(0.1, 0.1, 0.1, 1),
-                                  physicsClientId=self.client)
-        # mass > 0: PyBullet skips pairs of two static bodies
-        body = p.createMultiBody(u.mass, col, vis, u.position, physicsClientId=self.client)
-        p.setCollisionFilterGroupMask(body, -1, G_UAV, G_STATIC | G_MOVABLE,
-                                      physicsClientId=self.client)
-        self.name_of[body] = u.name
+        assert self.spec.uav is not None
+        body = bodies.add_uav(self.client, self.spec.uav)
+        self.name_of[body] = self.spec.uav.name
         return body
 
     # ------------------------------------------------------------------ World protocol
