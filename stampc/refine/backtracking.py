@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Callable, Iterator
 
+from stampc.refine.fixed import needing_otherwise
 from stampc.refine.graph import GOAL, HORIZON, Node, PolicyGraph, detach_subtree
 from stampc.solvers.space import ANY_STATE
 
@@ -35,6 +36,9 @@ class Backtracking:
     _bans: dict[tuple[int, int], int]
     _worked: set[int]
     _exhausted: dict[int, set[int]]
+    #: facts of `? predicate`s, and the actions banned for good by their learned values
+    _fixed_facts: frozenset[int]
+    _fact_bans: set[int]
     _notes: list[str]
     #: the engine's best-policy bookkeeping (``Engine._track``)
     _track: "Callable[[int, PolicyGraph], None]"
@@ -124,9 +128,22 @@ class Backtracking:
             self._notes.append(f"{self.model.actions[action].label}: banned in every state "
                                f"(no usable sample in {len(states)} states, never refined)")
 
+    def _ban_against_fixed_facts(self, learned) -> None:
+        """A learned fact of a ``? predicate`` holds everywhere (fixed.py): ban, in every
+        state and for good, the actions that need its other value."""
+        facts = [(f, v) for f, v in learned if f in self._fixed_facts]
+        banned = needing_otherwise(self.model, facts) - self._fact_bans if facts else set()
+        if banned:
+            self._fact_bans |= banned
+            self.planner.forbidden.update((ANY_STATE, a) for a in banned)
+            self._notes.append(f"{len(banned)} action(s) banned in every state: they need "
+                               "the other value of a fixed fact")
+
     def _bans_everywhere(self) -> list[int]:
-        """The actions banned in every state (the planner's ``(ANY_STATE, a)`` pairs)."""
-        return [a for s, a in self.planner.forbidden if s == ANY_STATE]
+        """The actions banned in every state (the planner's ``(ANY_STATE, a)`` pairs),
+        except those a learned fixed fact rules out (never lifted)."""
+        return [a for s, a in self.planner.forbidden
+                if s == ANY_STATE and a not in self._fact_bans]
 
     def _replan_above(self, graph: PolicyGraph, path: tuple[int, ...]) -> tuple[str, str] | None:
         """With actions banned in every state, replan at the nearest of the last

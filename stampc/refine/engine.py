@@ -32,6 +32,7 @@ import networkx as nx
 from stampc.ir.grounded import GroundModel
 from stampc.refine.backtracking import Backtracking, has_way
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
+from stampc.refine.fixed import fixed_facts
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
                                  abstract_goal_probability, path_values, select_path)
 from stampc.refine.options import ProgressEvent, RefineOptions
@@ -76,6 +77,8 @@ class Engine(Backtracking, Reporting):
         #: actions refined at least once; per action, the states where it was banned
         self._worked: set[int] = set()
         self._exhausted: dict[int, set[int]] = {}
+        self._fixed_facts = fixed_facts(model)
+        self._fact_bans: set[int] = set()
         self._start = time.perf_counter()
         self._stopped: float | None = None
 
@@ -309,6 +312,7 @@ class Engine(Backtracking, Reporting):
         if failure.violated:
             self.memory.remember(failure.violated)
             self._ban_no_progress(graph, path, failure.violated)
+            self._ban_against_fixed_facts(failure.violated)
             recalled = self._recall(node, failure.violated, values)
             return self._update(graph, node, failure.violated, "update", path, recalled)
         node.attempts += 1
