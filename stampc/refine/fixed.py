@@ -10,7 +10,7 @@ for good: a fact is not a guess, so these bans are never lifted.
 
 from __future__ import annotations
 
-from typing import Iterable
+from typing import Sequence
 
 from stampc.ir.ground_context import iter_effect_atoms
 from stampc.ir.grounded import GroundModel
@@ -27,7 +27,7 @@ def fixed_facts(model: GroundModel) -> frozenset[int]:
     return frozenset(i for i, f in enumerate(model.facts) if f.predicate in fixed)
 
 
-def needing_otherwise(model: GroundModel, learned: Iterable[tuple[int, bool]]) -> set[int]:
+def needing_otherwise(model: GroundModel, learned: Sequence[tuple[int, bool]]) -> set[int]:
     """Ground actions whose precondition needs a learned fact at the other value."""
     pos = sum(1 << f for f, value in learned if not value)  # learned false, needed true
     neg = sum(1 << f for f, value in learned if value)
