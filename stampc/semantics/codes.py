@@ -57,6 +57,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "W405": (Severity.WARNING, "`?` predicate read both positively and negatively"),
     "W406": (Severity.WARNING, "evaluator for a predicate no effect marks with `?`"),
     "W407": (Severity.WARNING, "bound function's parameters in another order than declared"),
+    "W408": (Severity.WARNING, "`? predicate` without an evaluator"),
 }
 
 

@@ -44,6 +44,12 @@ def lint_domain(info: DomainInfo, productions: dict[str, Production], problem: P
         if pols == {True, False}:
             diags.append(diag("W405", f"`?` predicate `{pred}` is read both positively and negatively; "
                                       "the abstraction assumes it false", span))
+    evaluated = {ev.predicate.name for ev in info.evaluators}
+    for name, decl in info.predicates.items():
+        if decl.unknown and name not in evaluated and info.is_local(decl.name.span):
+            diags.append(diag("W408", f"`? predicate {name}` has no evaluator: refinement never "
+                                      "decides its facts", decl.name.span,
+                              f"bind one: `evaluator {name}` with `binds \"module:function\"`"))
     for ev in info.evaluators:
         if ev.predicate.name in info.predicates and ev.predicate.name not in facts.effects.unknown \
                 and info.is_local(ev.predicate.span):
