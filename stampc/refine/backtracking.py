@@ -128,16 +128,20 @@ class Backtracking:
             self._notes.append(f"{self.model.actions[action].label}: banned in every state "
                                f"(no usable sample in {len(states)} states, never refined)")
 
-    def _ban_against_fixed_facts(self, learned) -> None:
+    def _ban_against_fixed_facts(self, learned) -> tuple[tuple[int, bool], ...]:
         """A learned fact of a ``? predicate`` holds everywhere (fixed.py): ban, in every
-        state and for good, the actions that need its other value."""
+        state and for good, the actions that need its other value. Returns the other
+        learned facts (those an abstract state records)."""
         facts = [(f, v) for f, v in learned if f in self._fixed_facts]
-        banned = needing_otherwise(self.model, facts) - self._fact_bans if facts else set()
-        if banned:
-            self._fact_bans |= banned
-            self.planner.forbidden.update((ANY_STATE, a) for a in banned)
-            self._notes.append(f"{len(banned)} action(s) banned in every state: they need "
-                               "the other value of a fixed fact")
+        if not facts:
+            return tuple(learned)
+        banned = needing_otherwise(self.model, facts) - self._fact_bans
+        self._fact_bans |= banned
+        self.planner.forbidden.update((ANY_STATE, a) for a in banned)
+        for f, v in facts:
+            self._notes.append(f"{self.model.facts[f]}={'true' if v else 'false'} holds "
+                               f"everywhere: {len(banned)} action(s) banned in every state")
+        return tuple((f, v) for f, v in learned if f not in self._fixed_facts)
 
     def _bans_everywhere(self) -> list[int]:
         """The actions banned in every state (the planner's ``(ANY_STATE, a)`` pairs),

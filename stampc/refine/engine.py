@@ -228,6 +228,9 @@ class Engine(Backtracking, Reporting):
     def _refine(self, graph: PolicyGraph, path: tuple[int, ...]) -> tuple[str, str]:
         node = graph[path[-1]]
         action = self.model.actions[node.action]
+        if node.action in self._fact_bans:  # planned before a fixed fact ruled it out
+            self._notes.append(f"{action.label}: needs the other value of a learned fixed fact")
+            return self._update(graph, node, (), "update", path)
         values = path_values(graph, path[:-1], self.initial_values)
         quick = self.rng.random() < self.options.update_probability
         result = self.concretizer.concretize(
@@ -310,11 +313,13 @@ class Engine(Backtracking, Reporting):
                     failure: Failure, values) -> tuple[str, str]:
         node = graph[path[-1]]
         if failure.violated:
-            self.memory.remember(failure.violated)
-            self._ban_no_progress(graph, path, failure.violated)
-            self._ban_against_fixed_facts(failure.violated)
-            recalled = self._recall(node, failure.violated, values)
-            return self._update(graph, node, failure.violated, "update", path, recalled)
+            # facts of `? predicate`s become bans in every state instead of state bits,
+            # so the branches that learned one still merge with those that did not
+            learned = self._ban_against_fixed_facts(failure.violated)
+            self.memory.remember(learned)
+            self._ban_no_progress(graph, path, learned)
+            recalled = self._recall(node, learned, values)
+            return self._update(graph, node, learned, "update", path, recalled)
         node.attempts += 1
         if self.rng.random() < self.options.explore_probability:
             # explore (Thm. 2's completeness): either revise an earlier choice — re-sample

@@ -46,7 +46,10 @@ def test_a_learned_fixed_fact_bans_its_actions_everywhere_for_good(tmp_path):
     names = {(gm.actions[a].name, gm.actions[a].args[:2]) for a in needing}
     assert names == {("pick", ("left", "feed2"))}
     assert needing_otherwise(gm, [(fact, True)]) == set()  # nothing needs it false
-    engine._ban_against_fixed_facts([(fact, False)])
+    blocked = next(i for i, f in enumerate(gm.facts) if f.predicate == "blocked")
+    # the fixed fact is no state bit (branches that learned it still merge with the
+    # others); a learned `?` fact of an effect-written predicate is
+    assert engine._ban_against_fixed_facts([(fact, False), (blocked, True)]) == ((blocked, True),)
     assert {(ANY_STATE, a) for a in needing} <= engine.planner.forbidden
     assert engine._bans_everywhere() == []  # not a guess: no replan lifts it
     engine._lift_bans_everywhere()
