@@ -206,8 +206,9 @@ def test_put_is_deterministic_and_only_where_the_structure_says():
 
 def test_reaches_is_decided_by_the_arm_and_feed_whether_a_plank_waits_or_not():
     """The `? predicate reaches(a, f)` evaluator: the left arm reaches feed 1, not feed 2
-    past the right arm; with no plank at the feed it decides on the next supply plank set
-    there and leaves the world as it was; with one there it agrees with feed_grasp."""
+    past the right arm, both reach the buffer; with no plank at the feed it decides on
+    the next supply plank set there and leaves the world as it was; with one there it
+    agrees with feed_grasp; and it gives the same answers whatever the random draw."""
     world = open_world("pybullet", kv.build("tower", 2, 0), seed=0)
     try:
         ctx = Context(world=world, rng=random.Random(0))
@@ -222,6 +223,10 @@ def test_reaches_is_decided_by_the_arm_and_feed_whether_a_plank_waits_or_not():
         sure = Context(world=world, rng=random.Random(0), options={"ik_restarts": 20})
         for arm in ("left", "right"):
             assert keva.reaches(ctx, arm, "feed2") == bool(list(keva.feed_grasp(sure, arm, "feed2")))
+        # the same answer whatever the draw: a "no" is for good
+        for seed in range(8):
+            draw = Context(world=world, rng=random.Random(seed))
+            assert [keva.reaches(draw, a, f) for a, f in answers] == list(answers.values())
     finally:
         world.close()
 
