@@ -32,8 +32,9 @@ from typing import Any, Protocol
 from stampc.diagnostics import StampcError
 from stampc.ir.grounded import GroundModel
 from stampc.refine.engine import Engine
-from stampc.refine.graph import Concrete, Node, PolicyGraph, path_values, select_path
+from stampc.refine.graph import Concrete, Node, PolicyGraph, path_values
 from stampc.refine.options import RefineOptions, RefineResult
+from stampc.refine.selection import select_path, tracked_bounds
 from stampc.refine.workers import WorkReply, WorkTask, handle_task
 from stampc.worlds.bindings import ResolvedBindings
 
@@ -107,7 +108,7 @@ class ParallelEngine(Engine):
                 return self._apply(item)
             self.stats.discarded += 1
         graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
-        selected = select_path(graph, self._node_cost)
+        selected = self._select(graph)
         first = _refinable_prefix(graph, selected)
         if first is None:  # a horizon leaf to extend, or nothing: the serial step
             return self._act(graph, selected)
@@ -123,7 +124,9 @@ class ParallelEngine(Engine):
 
         out: list[tuple[int, ...]] = []
         while len(out) < self.workers - 1:
-            path = _refinable_prefix(graph, select_path(graph, cost))
+            # the kept bounds with the taken nodes' cost changed (only their ancestors move)
+            bounds = tracked_bounds(graph, cost, self.horizon, changed=taken)
+            path = _refinable_prefix(graph, select_path(graph, cost, bounds=bounds))
             if path is None or path[-1] in taken:
                 break
             taken.add(path[-1])
