@@ -42,7 +42,7 @@ from stampc.worlds.bindings import ResolvedBindings
 class WorkerPool(Protocol):
     size: int
 
-    def check(self, signature: tuple[int, int]) -> None: ...
+    def ready(self, signature: tuple[int, int]) -> bool: ...
     def submit(self, tasks: list[WorkTask]) -> None: ...
     def collect(self) -> list[WorkReply]: ...
     def close(self) -> None: ...
@@ -147,14 +147,7 @@ class ParallelEngine(Engine):
                 mode.random() < self.options.update_probability,
                 tuple((e.successor, e.outcome) for e in node.edges), remaining))
             pending.append((path, node, values))
-        if len(tasks) > 1:  # workers are waited for only once there is work for them
-            self.pool.check((len(self.model.actions), len(self.model.facts)))
-            self.pool.submit(tasks[1:])
-        replies = [handle_task(self.model, self.concretizer, tasks[0])]
-        if len(tasks) > 1:
-            start = time.perf_counter()
-            replies += self.pool.collect()
-            self.stats.wait_s += time.perf_counter() - start
+        replies = self._run(tasks)
         self.stats.batches += 1
         self.stats.dispatched += len(tasks)
         for (path, node, values), reply in zip(pending, replies):
@@ -163,6 +156,31 @@ class ParallelEngine(Engine):
             self.stats.worker_busy_s += reply.busy_s
             self._queue.append(_Pending(self.current, graph, path, node.action, node.attempts,
                                         node.concrete, values, reply))
+
+    def _run(self, tasks: list[WorkTask]) -> list[WorkReply]:
+        """The replies to a batch, in task order: the engine answers the first task, the
+        workers the others — once they are up. They start with the first batch that has
+        work for them (a run without one never pays for them), and until they are ready
+        the engine answers the whole batch itself: a reply depends on its task only."""
+        rest = tasks[1:]
+        up = bool(rest) and self.pool.ready(self._signature)
+        if up:
+            self.pool.submit(rest)
+        replies = [handle_task(self.model, self.concretizer, tasks[0])]
+        if rest and not up and self.pool.ready(self._signature):  # up meanwhile
+            self.pool.submit(rest)
+            up = True
+        if not up:
+            return replies + [handle_task(self.model, self.concretizer, t) for t in rest]
+        start = time.perf_counter()
+        replies += self.pool.collect()
+        self.stats.wait_s += time.perf_counter() - start
+        return replies
+
+    @property
+    def _signature(self) -> tuple[int, int]:
+        """(actions, facts) of the grounded model, which every worker must share."""
+        return len(self.model.actions), len(self.model.facts)
 
     def _still_current(self, item: _Pending) -> bool:
         """Whether the reply still applies: same policy, same unrefined node, same attempt."""

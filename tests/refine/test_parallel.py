@@ -87,15 +87,38 @@ goal done(a)
 scene builder "stampc.worlds.plane2d.scenes:cluttered"(n=1, seed=0, blockers=0)
 """
 
-# only worker processes misbehave (the engine's own process has no parent process)
+# only worker processes misbehave (the engine's own process has no parent process). The
+# workers start with the first batch that has work for them, and the engine answers the
+# whole batch itself until they are up: its own task here waits for a worker of this run
+# to have imported the kit (a marker file named by the worker's pid; then it only reports
+# ready), so that the batch's second task goes to the worker.
+UP = """\
+import multiprocessing, os, time
+from pathlib import Path
+
+UP = Path(__file__).with_name("workers_up")
+if multiprocessing.parent_process() is not None:
+    UP.mkdir(exist_ok=True)
+    (UP / str(os.getpid())).touch()
+
+
+def wait_for_a_worker():
+    for _ in range(1200):
+        if any((UP / str(p.pid)).exists() for p in multiprocessing.active_children()):
+            time.sleep(2.0)
+            return
+        time.sleep(0.1)
+
+"""
 KITS = {
     "fine": "def make(ctx, x):\n    yield (42,)\n",
-    "dies": ("import multiprocessing, os\n\ndef make(ctx, x):\n"
-             "    if multiprocessing.parent_process() is not None:\n        os._exit(3)\n"
-             "    yield (42,)\n"),
-    "raises": ("import multiprocessing\n\ndef make(ctx, x):\n"
-               "    if multiprocessing.parent_process() is not None:\n"
-               "        raise ValueError('not in a worker')\n    yield (42,)\n"),
+    "dies": UP + ("def make(ctx, x):\n"
+                  "    if multiprocessing.parent_process() is not None:\n        os._exit(3)\n"
+                  "    wait_for_a_worker()\n    yield (42,)\n"),
+    "raises": UP + ("def make(ctx, x):\n"
+                    "    if multiprocessing.parent_process() is not None:\n"
+                    "        raise ValueError('not in a worker')\n"
+                    "    wait_for_a_worker()\n    yield (42,)\n"),
 }
 
 
