@@ -64,6 +64,9 @@ class ParallelStats:
     #: engine time waiting for a batch's replies, and the workers' summed busy time
     wait_s: float = 0.0
     worker_busy_s: float = 0.0
+    #: the batches' critical path: per batch its longest task's time (all of its tasks'
+    #: when the engine answered them alone), a floor for the engine's time in them
+    critical_s: float = 0.0
 
     def as_dict(self) -> dict[str, Any]:
         return {k: round(v, 4) if isinstance(v, float) else v for k, v in vars(self).items()}
@@ -171,10 +174,13 @@ class ParallelEngine(Engine):
             self.pool.submit(rest)
             up = True
         if not up:
-            return replies + [handle_task(self.model, self.concretizer, t) for t in rest]
+            replies += [handle_task(self.model, self.concretizer, t) for t in rest]
+            self.stats.critical_s += sum(r.busy_s for r in replies)
+            return replies
         start = time.perf_counter()
         replies += self.pool.collect()
         self.stats.wait_s += time.perf_counter() - start
+        self.stats.critical_s += max(r.busy_s for r in replies)
         return replies
 
     @property
