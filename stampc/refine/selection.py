@@ -66,17 +66,11 @@ def _raw_bounds(node: Node, cost: float, values: Mapping[int, tuple]) -> tuple:
         v = values[e.child]
         k = v[4]
         p, c = q * v[1], k + v[3]
-        if p > any_p:
-            any_p = p
-        if c < any_c:
-            any_c = c
+        any_p, any_c = max(any_p, p), min(any_c, c)
         if refined:
             if v[5]:  # the child is refined or a leaf: a refined path goes on through it
                 p, c = q * v[0], k + v[2]
-            if p > open_p:
-                open_p = p
-            if c < open_c:
-                open_c = c
+            open_p, open_c = max(open_p, p), min(open_c, c)
     if refined:
         return open_p, any_p, open_c, any_c
     return any_p, any_p, any_c, any_c
