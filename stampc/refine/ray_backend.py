@@ -62,7 +62,7 @@ def _python_path() -> str:
 class RayPool:
     """``n`` actors on the Ray cluster at ``address`` ("": Ray's default)."""
 
-    def __init__(self, spec: WorkerSpec, n: int, address: str):
+    def __init__(self, spec: WorkerSpec, n: int, address: str, wait: bool = False):
         try:
             import ray
         except ImportError:
@@ -77,6 +77,7 @@ class RayPool:
             raise _unavailable(f"cannot connect to {address or 'the default cluster'}: "
                                f"{type(exc).__name__}: {exc}") from None
         self.size = n
+        self.wait = wait  # as LocalPool's
         self._spec = spec
         self._actors: list = []
         self._status_refs: list = []
@@ -98,7 +99,8 @@ class RayPool:
             self._actors = [actor.remote(self._spec) for _ in range(self.size)]
             self._status_refs = [a.status.remote() for a in self._actors]
         if not self._ready:
-            done, _ = self._ray.wait(self._status_refs, num_returns=self.size, timeout=0)
+            done, _ = self._ray.wait(self._status_refs, num_returns=self.size,
+                                     timeout=None if self.wait else 0)
             if len(done) == self.size:
                 check_status(self._get(self._status_refs), signature)
                 self._ready = True

@@ -171,12 +171,14 @@ def check_status(statuses: list[tuple], signature: tuple[int, int]) -> None:
 
 class LocalPool:
     """``n`` worker processes of this machine (spawned: no simulator state is forked),
-    started on the first :meth:`ready` (the first batch with work for them).
+    started on the first :meth:`ready` (the first batch with work for them); ``wait``: that
+    call waits until they are up (tests: every batch's other tasks then reach a worker).
 
     Task ``i`` of a batch goes to worker ``i mod n``; replies come back in task order."""
 
-    def __init__(self, spec: WorkerSpec, n: int):
+    def __init__(self, spec: WorkerSpec, n: int, wait: bool = False):
         self.size = n
+        self.wait = wait
         self._spec = spec
         self._conns: list = []
         self._procs: list = []
@@ -190,13 +192,17 @@ class LocalPool:
         diagnostics, or R206 if it grounded another model than ``signature``."""
         if not self._procs:
             self._start()
-        while not self._ready and self._conns[len(self._status)].poll():
+        while not self._ready and (self.wait or self._conns[len(self._status)].poll()):
             i = len(self._status)
             self._status.append(self._recv(i, self._conns[i]))
             if len(self._status) == self.size:
                 check_status(self._status, signature)
                 self._ready = True
         return self._ready
+
+    @property
+    def started(self) -> bool:
+        return bool(self._procs)
 
     def _start(self) -> None:
         ctx = multiprocessing.get_context("spawn")
