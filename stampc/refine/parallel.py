@@ -166,21 +166,22 @@ class ParallelEngine(Engine):
         work for them (a run without one never pays for them), and until they are ready
         the engine answers the whole batch itself: a reply depends on its task only."""
         rest = tasks[1:]
-        up = bool(rest) and self.pool.ready(self._signature)
-        if up:
+        beside = bool(rest) and self.pool.ready(self._signature)  # run beside the engine's
+        if beside:
             self.pool.submit(rest)
         replies = [handle_task(self.model, self.concretizer, tasks[0])]
-        if rest and not up and self.pool.ready(self._signature):  # up meanwhile
+        after = bool(rest) and not beside and self.pool.ready(self._signature)  # up meanwhile
+        if after:
             self.pool.submit(rest)
-            up = True
-        if not up:
+        if beside or after:
+            start = time.perf_counter()
+            replies += self.pool.collect()
+            self.stats.wait_s += time.perf_counter() - start
+        else:
             replies += [handle_task(self.model, self.concretizer, t) for t in rest]
-            self.stats.critical_s += sum(r.busy_s for r in replies)
-            return replies
-        start = time.perf_counter()
-        replies += self.pool.collect()
-        self.stats.wait_s += time.perf_counter() - start
-        self.stats.critical_s += max(r.busy_s for r in replies)
+        times = [r.busy_s for r in replies]  # the critical path: what ran one after another
+        self.stats.critical_s += (max(times) if beside else times[0] + max(times[1:]) if after
+                                  else sum(times))
         return replies
 
     @property

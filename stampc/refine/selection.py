@@ -134,10 +134,13 @@ def tracked_bounds(graph: PolicyGraph, node_cost: NodeCost, key: Hashable,
     nodes whose cost under ``node_cost`` differs from the key's (e.g. nodes a parallel
     batch already took): computed aside, the kept bounds stay those of the key."""
     tracker = graph.caches.get("bounds")
-    if tracker is None or tracker[0] != key:
-        tracker = graph.caches["bounds"] = (key, IncrementalValues(bounds_local(node_cost)))
-    values = (tracker[1].variant(graph, changed, bounds_local(node_cost)) if changed
-              else tracker[1].values if tracker[1].refresh(graph) else None)
+    fresh = tracker is None or tracker[0] != key
+    if changed:  # only the key's own costs may be kept
+        values = None if fresh else tracker[1].variant(graph, changed, bounds_local(node_cost))
+    else:
+        if fresh:
+            tracker = graph.caches["bounds"] = (key, IncrementalValues(bounds_local(node_cost)))
+        values = tracker[1].values if tracker[1].refresh(graph) else None
     return Bounds(values) if values is not None else path_bounds(graph, node_cost)
 
 

@@ -188,6 +188,9 @@ def test_taken_nodes_are_computed_aside():
         assert {u: aside[u] for u in fresh} == fresh
         kept = tracked_bounds(graph, base, 4.0).values
         assert {u: kept[u] for u in fresh} == path_bounds(graph, base).values
+        # with a key nothing is kept for, the variant is computed from scratch, and kept not
+        other = tracked_bounds(graph, cost, 5.0, changed=taken).values
+        assert {u: other[u] for u in fresh} == fresh and graph.caches["bounds"][0] == 4.0
 
 
 class CheckedEngine(Engine):
