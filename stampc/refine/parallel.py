@@ -64,8 +64,8 @@ class ParallelStats:
     #: engine time waiting for a batch's replies, and the workers' summed busy time
     wait_s: float = 0.0
     worker_busy_s: float = 0.0
-    #: the batches' critical path: per batch its longest task's time (all of its tasks'
-    #: when the engine answered them alone), a floor for the engine's time in them
+    #: the batches' critical path: per batch its longest task's time (or of the tasks run
+    #: one after another while the workers were starting), a floor for the engine's time
     critical_s: float = 0.0
 
     def as_dict(self) -> dict[str, Any]:
