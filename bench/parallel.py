@@ -13,7 +13,9 @@ For each instance (the paper benchmark's generators, ``bench/paper_classes.py``)
    The split is a ratio of times measured in one process, so it hardly depends on load.
 2. **wall** — ``stampc refine ... --workers N`` as a subprocess for each N (1 first):
    the whole process time and the engine's time (summary.json), coverage, and the
-   parallel counters (batches, stale replies discarded, time waiting for workers).
+   parallel counters (batches, stale replies discarded, time waiting for workers, the
+   batches' critical path: their tasks' summed time over it is the batch parallelism,
+   the bound the batch structure sets however idle the cores are).
 
 The load average is printed before and after: the machine may be shared, and the wall
 times are only meaningful next to it. A parallel run may follow a different search (the
@@ -153,6 +155,11 @@ def _summarise(rows: list[dict], workers: list[int]) -> None:
                           f"(per seed {', '.join(f'{x:.2f}' for x in ratios)})")
             same = [_coverage(r, 1) == _coverage(r, n) for r in mine]
             print(f"  --workers {n}: same coverage as --workers 1 on {sum(same)}/{len(same)} seeds")
+            spans = [x for x in (_batch_parallelism(r, n) for r in mine) if x is not None]
+            if spans:
+                print(f"  --workers {n}: batch parallelism (task time / critical path) median "
+                      f"{statistics.median(spans):.2f} (per seed "
+                      f"{', '.join(f'{x:.2f}' for x in spans)}): the batches' own bound")
 
 
 def _ratio(row: dict, n: int, key: str) -> float | None:
@@ -161,6 +168,16 @@ def _ratio(row: dict, n: int, key: str) -> float | None:
     if one is None or many is None or many[key] <= 0:
         return None
     return one[key] / many[key]
+
+
+def _batch_parallelism(row: dict, n: int) -> float | None:
+    """The tasks' summed time over the batches' critical path (summary.json ``parallel``):
+    how much the batches could shorten the concretization time, however idle the cores."""
+    w = next((w for w in row["wall"] if w["workers"] == n), None)
+    stats = (w or {}).get("parallel") or {}
+    if not stats.get("critical_s"):
+        return None
+    return stats["worker_busy_s"] / stats["critical_s"]
 
 
 def _coverage(row: dict, n: int) -> float | None:

@@ -11,6 +11,7 @@ Bad input raises :class:`stampc.StampcError` carrying located diagnostics.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
@@ -135,9 +136,12 @@ def _build_worker(spec):
 
 def _open_pool(spec, size: int, ray: str | None):
     """``size`` local worker processes, or Ray actors when ``ray`` is an address ("" for
-    Ray's default: the cluster named by RAY_ADDRESS, else a new local one)."""
+    Ray's default: the cluster named by RAY_ADDRESS, else a new local one). They start
+    with the first batch that has work for them; with STAMPC_WAIT_FOR_WORKERS=1 that
+    batch waits for them (tests: the workers then answer every batch's other tasks)."""
+    wait = os.environ.get("STAMPC_WAIT_FOR_WORKERS") == "1"
     if ray is None:
         from stampc.refine.workers import LocalPool
-        return LocalPool(spec, size)
+        return LocalPool(spec, size, wait)
     from stampc.refine.ray_backend import RayPool  # the only module that imports Ray
-    return RayPool(spec, size, ray)
+    return RayPool(spec, size, ray, wait)

@@ -8,7 +8,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Callable, Iterator
 
 from stampc.refine.fixed import needing_otherwise
-from stampc.refine.graph import GOAL, HORIZON, Node, PolicyGraph, detach_subtree
+from stampc.refine.graph import GOAL, HORIZON, Node, PolicyGraph, adopt, detach_subtree
 from stampc.solvers.space import ANY_STATE
 
 if TYPE_CHECKING:
@@ -68,6 +68,7 @@ class Backtracking:
         self._lift_bans(graph.reachable(ancestor.uid))
         new_graph = graph.copy()
         target = new_graph[ancestor.uid]
+        new_graph.touch(target.uid)
         target.sigma = None
         target.attempts += 1  # the next concretization draws from fresh generator streams
         target.resamples += 1
@@ -90,7 +91,7 @@ class Backtracking:
         new_graph = graph.copy()
         target = new_graph[uid]
         sub = self._graft_growing(new_graph, state, target.depth, forced, learned)
-        self._adopt(new_graph, target, new_graph[sub])
+        adopt(new_graph, target, new_graph[sub])
         new_graph.prune()
         return new_graph
 

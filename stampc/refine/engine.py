@@ -34,11 +34,12 @@ from stampc.refine.backtracking import Backtracking, has_way
 from stampc.refine.concretize import DEFAULT_BUDGET, Concretizer, Failure, Success
 from stampc.refine.fixed import fixed_facts
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Concrete, Node, PolicyGraph,
-                                 abstract_goal_probability, path_values, select_path)
+                                 abstract_goal_probability, adopt, path_values)
 from stampc.refine.options import ProgressEvent, RefineOptions
 from stampc.refine.planner import AbstractPlanner
 from stampc.refine.recall import FactMemory
 from stampc.refine.reporting import THRESHOLDS, Reporting
+from stampc.refine.selection import select_path, tracked_bounds
 from stampc.worlds.bindings import ResolvedBindings
 
 
@@ -165,7 +166,13 @@ class Engine(Backtracking, Reporting):
     # ----------------------------------------------------------------- step
     def step(self) -> tuple[str, str]:
         graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
-        return self._act(graph, select_path(graph, self._node_cost))
+        return self._act(graph, self._select(graph))
+
+    def _select(self, graph: PolicyGraph):
+        """The best uncovered path (selection.py); the bounds are kept on the graph (ĉ
+        depends on the node and the horizon only)."""
+        return select_path(graph, self._node_cost,
+                           bounds=tracked_bounds(graph, self._node_cost, self.horizon))
 
     def _act(self, graph: PolicyGraph, selected) -> tuple[str, str]:
         """Work on the selected path: extend its open leaf or refine its first unrefined action."""
@@ -217,7 +224,7 @@ class Engine(Backtracking, Reporting):
         the solver gave up) by a freshly planned subtree."""
         was_dead_end = leaf.leaf == DEAD_END
         sub = self._graft_growing(graph, leaf.state, leaf.depth, None)
-        self._adopt(graph, leaf, graph[sub])
+        adopt(graph, leaf, graph[sub])
         if was_dead_end and leaf.leaf == DEAD_END and not leaf.proven:
             leaf.given_up = True  # replanning found no way out either: stays unrefined
             self._track(self.current, graph)
@@ -266,6 +273,7 @@ class Engine(Backtracking, Reporting):
         ``node`` in a loop with no way out (no leaf reachable): then nothing is committed
         and False is returned."""
         before = list(node.edges)
+        graph.touch(node.uid)
         node.sigma = sigma
         action = self.model.actions[node.action]
         env = {**values, **sigma}
@@ -419,14 +427,6 @@ class Engine(Backtracking, Reporting):
         self._track(v, new_graph)
         detail = ", ".join(facts) or "action banned"
         return kind, detail + (f" (+{len(others)} recalled)" if others else "")
-
-    @staticmethod
-    def _adopt(graph: PolicyGraph, target: Node, source: Node) -> None:
-        """Overwrite ``target``'s policy with ``source``'s (keeping uid and concrete state)."""
-        target.state, target.action, target.leaf = source.state, source.action, source.leaf
-        target.edges, target.sigma, target.attempts = list(source.edges), None, 0
-        target.proven, target.given_up = source.proven, False
-        del graph.nodes[source.uid]
 
 
 def _nominal_step(graph: PolicyGraph, parent: int, child: int) -> bool:

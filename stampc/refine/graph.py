@@ -12,13 +12,11 @@ shallowly) so UpdateAbstraction never disturbs the policy of the PRG node it cam
 
 from __future__ import annotations
 
-import copy
-import heapq
-import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator, Mapping
 
 from stampc.ir.grounded import Successor
+from stampc.refine.incremental import IncrementalValues
 
 GOAL, DEAD_END, HORIZON = "goal", "dead_end", "horizon"
 
@@ -80,9 +78,20 @@ class Node:
 class PolicyGraph:
     root: int
     nodes: dict[int, Node]
+    #: per-node values kept between steps, by name: (key, IncrementalValues)
+    caches: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
 
     def copy(self) -> "PolicyGraph":
-        return PolicyGraph(self.root, {u: _copy_node(n) for u, n in self.nodes.items()})
+        """A copy whose nodes can change independently; the kept values come along (a
+        replan or re-sample of the copy then updates them instead of starting afresh)."""
+        return PolicyGraph(self.root, {u: _copy_node(n) for u, n in self.nodes.items()},
+                           {name: (key, kept.copy()) for name, (key, kept) in self.caches.items()})
+
+    def touch(self, uid: int) -> None:
+        """Record that node ``uid`` changed in place (its refinement, leaf kind, action or
+        edges), for the values kept in :attr:`caches`; new nodes need no call."""
+        for cache in self.caches.values():
+            cache[-1].pending.add(uid)
 
     def __getitem__(self, uid: int) -> Node:
         return self.nodes[uid]
@@ -144,8 +153,15 @@ class PolicyGraph:
 
     def prune(self) -> None:
         """Drop nodes no longer reachable from the root."""
-        keep = set(self.reachable())
-        self.nodes = {u: n for u, n in self.nodes.items() if u in keep}
+        nodes = self.nodes
+        keep, stack = {self.root}, [self.root]
+        while stack:
+            for e in nodes[stack.pop()].edges:
+                if e.child not in keep:
+                    keep.add(e.child)
+                    stack.append(e.child)
+        if len(keep) < len(nodes):  # else every node is kept: the same dict
+            self.nodes = {u: n for u, n in nodes.items() if u in keep}
 
     def parents(self) -> dict[int, list[int]]:
         result: dict[int, list[int]] = {u: [] for u in self.nodes}
@@ -155,8 +171,19 @@ class PolicyGraph:
         return result
 
 
+def adopt(graph: PolicyGraph, target: Node, source: Node) -> None:
+    """Overwrite ``target``'s policy with ``source``'s (keeping uid and concrete state)."""
+    graph.touch(target.uid)
+    target.state, target.action, target.leaf = source.state, source.action, source.leaf
+    target.edges, target.sigma, target.attempts = list(source.edges), None, 0
+    target.proven, target.given_up = source.proven, False
+    del graph.nodes[source.uid]
+
+
 def _copy_node(node: Node) -> Node:
-    clone = copy.copy(node)
+    """A shallow copy with its own edge list (what ``copy.copy`` does, ~3x faster)."""
+    clone = object.__new__(Node)
+    clone.__dict__.update(node.__dict__)
     clone.edges = list(node.edges)
     return clone
 
@@ -207,6 +234,28 @@ def coverage_and_goal(graph: PolicyGraph) -> tuple[float, float]:
     return cov, goal
 
 
+def tracked_coverage_and_goal(graph: PolicyGraph) -> tuple[float, float]:
+    """:func:`coverage_and_goal`, kept on ``graph`` between calls (incremental.py): after
+    a step only the touched and new nodes and their ancestors are recomputed."""
+    tracker = graph.caches.get("masses")
+    if tracker is None:
+        tracker = graph.caches["masses"] = (None, IncrementalValues(_coverage_and_goal_local))
+    if not tracker[1].refresh(graph):
+        return coverage_and_goal(graph)
+    cov, goal = tracker[1].values[graph.root]
+    return min(1.0, cov), min(1.0, goal)
+
+
+def _coverage_and_goal_local(node: Node, value: Mapping[int, tuple]) -> tuple[float, float]:
+    """One node's (coverage, goal) masses from its children's (as :func:`_masses`)."""
+    if node.is_leaf:
+        return 1.0 if node.terminal else 0.0, 1.0 if node.leaf == GOAL else 0.0
+    if not node.refined:
+        return 0.0, 0.0
+    return tuple(sum(e.probability * value[e.child][k] for e in node.edges)  # type: ignore[return-value]
+                 for k in range(2))
+
+
 def dead_end_mass(graph: PolicyGraph) -> float:
     """Probability of reaching a *proven* dead end on refined branches."""
     return _mass(graph, lambda n: 1.0 if n.leaf == DEAD_END and n.proven else 0.0)
@@ -220,115 +269,6 @@ def goal_probability(graph: PolicyGraph) -> float:
 def abstract_goal_probability(graph: PolicyGraph) -> float:
     """Goal probability of the abstract policy, ignoring refinement."""
     return _mass(graph, lambda n: 1.0 if n.leaf == GOAL else 0.0, refined_only=False)
-
-
-# ------------------------------------------------------------ path selection
-def path_is_covered(graph: PolicyGraph, path: tuple[int, ...]) -> bool:
-    leaf = graph.nodes[path[-1]]
-    return leaf.terminal and all(graph.nodes[u].refined for u in path[:-1])
-
-
-@dataclass(frozen=True)
-class Bounds:
-    """Per node, bounds on its continuations to a selectable leaf: the most likely one's
-    probability and the cheapest one's remaining ĉ (both counting from below the node).
-    ``*_open``: continuations that are uncovered given a refined path down to the node;
-    ``*_any``: every continuation (below an unrefined node, all of them are uncovered)."""
-
-    p_open: dict[int, float]
-    p_any: dict[int, float]
-    c_open: dict[int, float]
-    c_any: dict[int, float]
-
-
-def path_bounds(graph: PolicyGraph, node_cost: Callable[[Node], float]) -> Bounds:
-    """Fixed points over the policy graph (cycles converge: a loop multiplies
-    probabilities < 1 and adds costs >= 0). A node's own ĉ counts in its parent's sums."""
-    order, acyclic = graph.postorder()
-    inf = math.inf
-    p_open, p_any = {u: 0.0 for u in order}, {u: 0.0 for u in order}
-    c_open, c_any = {u: inf for u in order}, {u: inf for u in order}
-    for _ in range(10_000):
-        changed = False
-        for uid in order:
-            node = graph.nodes[uid]
-            if node.is_leaf:
-                selectable = not node.given_up and node_cost(node) < inf
-                new = (1.0 if selectable and not node.terminal else 0.0,
-                       1.0 if selectable else 0.0, 0.0, 0.0)
-            else:
-                kids = [(e.probability, e.child, node_cost(graph.nodes[e.child]))
-                        for e in node.edges if e.probability > 0.0]
-                any_p = max((q * p_any[c] for q, c, _ in kids), default=0.0)
-                any_c = min((k + c_any[c] for _, c, k in kids), default=inf)
-                if node.refined:
-                    new = (max((q * p_open[c] if graph.nodes[c].refined or graph.nodes[c].is_leaf
-                                else q * p_any[c] for q, c, _ in kids), default=0.0), any_p,
-                           min((k + (c_open[c] if graph.nodes[c].refined or graph.nodes[c].is_leaf
-                                     else c_any[c]) for _, c, k in kids), default=inf), any_c)
-                else:
-                    new = (any_p, any_p, any_c, any_c)
-            old = (p_open[uid], p_any[uid], c_open[uid], c_any[uid])
-            if any(a != b and abs(a - b) > 1e-15 for a, b in zip(new, old)):
-                p_open[uid], p_any[uid], c_open[uid], c_any[uid] = new
-                changed = True
-        if acyclic or not changed:
-            break
-    return Bounds(p_open, p_any, c_open, c_any)
-
-
-def select_path(graph: PolicyGraph, node_cost: Callable[[Node], float],
-                max_pops: int = 200_000) -> tuple[float, float, tuple[int, ...]] | None:
-    """The uncovered root-to-leaf path with the largest p / ĉ (greedy knapsack, Thm. 1).
-
-    p is the path probability; ĉ the summed estimated refinement cost of the path's
-    unrefined nodes (``node_cost``; refined nodes cost 0). Best-first branch and bound:
-    a prefix with probability p and cost c, ending at a node whose continuations have
-    probability at most u and cost at least r (:func:`path_bounds`), bounds every
-    completion by p·u / max(c + r, 1). Subtrees with nothing uncovered (u = 0) are
-    skipped, and the cost bound leads the search straight down long unrefined chains,
-    so it never enumerates the exponentially many paths of a large policy (a 12- or
-    24-level Keva tower, where each feed outcome rejoins the chain). Cycles are cut (a
-    path never revisits a node). Returns (p, ĉ, path), or None when nothing is left.
-    """
-    b = path_bounds(graph, node_cost)
-    root = graph.nodes[graph.root]
-    c0 = node_cost(root)
-    u0, r0 = ((b.p_open, b.c_open) if root.refined or root.is_leaf else (b.p_any, b.c_any))
-    if u0[graph.root] <= 0.0:
-        return None
-    counter = 0
-    heap: list[tuple[float, int, float, float, bool, tuple[int, ...]]] = []
-    heapq.heappush(heap, (-u0[graph.root] / max(c0 + r0[graph.root], 1.0), counter, 1.0, c0,
-                          root.refined or root.is_leaf, (graph.root,)))
-    best: tuple[float, float, tuple[int, ...]] | None = None
-    best_ratio = 0.0
-    pops = 0
-    while heap and pops < max_pops:
-        neg_bound, _, prob, cost, refined_prefix, path = heapq.heappop(heap)
-        pops += 1
-        if -neg_bound <= best_ratio:
-            break
-        node = graph.nodes[path[-1]]
-        if node.is_leaf:
-            if not path_is_covered(graph, path) and 0 < cost < math.inf:
-                ratio = prob / cost
-                if ratio > best_ratio:
-                    best, best_ratio = (prob, cost, path), ratio
-            continue
-        for e in node.edges:
-            if e.child in path or e.probability <= 0.0:
-                continue
-            child = graph.nodes[e.child]
-            still = refined_prefix and (child.refined or child.is_leaf)
-            u, r = (b.p_open, b.c_open) if still else (b.p_any, b.c_any)
-            if u[e.child] <= 0.0:
-                continue
-            p2, c2 = prob * e.probability, cost + node_cost(child)
-            counter += 1
-            heapq.heappush(heap, (-p2 * u[e.child] / max(c2 + r[e.child], 1.0), counter, p2,
-                                  c2, still, path + (e.child,)))
-    return best
 
 
 def count_covered_paths(graph: PolicyGraph) -> int:
@@ -400,6 +340,7 @@ def detach_subtree(graph: PolicyGraph, uid: int, uids: Iterator[int]) -> None:
     the other branches keep their refinements. The copies keep abstract states, actions
     and learned facts; sigma, concrete states and attempt counts start afresh."""
     node = graph.nodes[uid]
+    graph.touch(uid)
     clones: dict[int, int] = {}
     order: list[int] = []
     stack = [e.child for e in node.edges]

@@ -32,8 +32,9 @@ from typing import Any, Protocol
 from stampc.diagnostics import StampcError
 from stampc.ir.grounded import GroundModel
 from stampc.refine.engine import Engine
-from stampc.refine.graph import Concrete, Node, PolicyGraph, path_values, select_path
+from stampc.refine.graph import Concrete, Node, PolicyGraph, path_values
 from stampc.refine.options import RefineOptions, RefineResult
+from stampc.refine.selection import select_path, tracked_bounds
 from stampc.refine.workers import WorkReply, WorkTask, handle_task
 from stampc.worlds.bindings import ResolvedBindings
 
@@ -41,7 +42,7 @@ from stampc.worlds.bindings import ResolvedBindings
 class WorkerPool(Protocol):
     size: int
 
-    def check(self, signature: tuple[int, int]) -> None: ...
+    def ready(self, signature: tuple[int, int]) -> bool: ...
     def submit(self, tasks: list[WorkTask]) -> None: ...
     def collect(self) -> list[WorkReply]: ...
     def close(self) -> None: ...
@@ -63,6 +64,9 @@ class ParallelStats:
     #: engine time waiting for a batch's replies, and the workers' summed busy time
     wait_s: float = 0.0
     worker_busy_s: float = 0.0
+    #: the batches' critical path: per batch its longest task's time (or of the tasks run
+    #: one after another while the workers were starting), a floor for the engine's time
+    critical_s: float = 0.0
 
     def as_dict(self) -> dict[str, Any]:
         return {k: round(v, 4) if isinstance(v, float) else v for k, v in vars(self).items()}
@@ -107,7 +111,7 @@ class ParallelEngine(Engine):
                 return self._apply(item)
             self.stats.discarded += 1
         graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
-        selected = select_path(graph, self._node_cost)
+        selected = self._select(graph)
         first = _refinable_prefix(graph, selected)
         if first is None:  # a horizon leaf to extend, or nothing: the serial step
             return self._act(graph, selected)
@@ -123,7 +127,9 @@ class ParallelEngine(Engine):
 
         out: list[tuple[int, ...]] = []
         while len(out) < self.workers - 1:
-            path = _refinable_prefix(graph, select_path(graph, cost))
+            # the kept bounds with the taken nodes' cost changed (only their ancestors move)
+            bounds = tracked_bounds(graph, cost, self.horizon, changed=taken)
+            path = _refinable_prefix(graph, select_path(graph, cost, bounds=bounds))
             if path is None or path[-1] in taken:
                 break
             taken.add(path[-1])
@@ -144,14 +150,7 @@ class ParallelEngine(Engine):
                 mode.random() < self.options.update_probability,
                 tuple((e.successor, e.outcome) for e in node.edges), remaining))
             pending.append((path, node, values))
-        if len(tasks) > 1:  # workers are waited for only once there is work for them
-            self.pool.check((len(self.model.actions), len(self.model.facts)))
-            self.pool.submit(tasks[1:])
-        replies = [handle_task(self.model, self.concretizer, tasks[0])]
-        if len(tasks) > 1:
-            start = time.perf_counter()
-            replies += self.pool.collect()
-            self.stats.wait_s += time.perf_counter() - start
+        replies = self._run(tasks)
         self.stats.batches += 1
         self.stats.dispatched += len(tasks)
         for (path, node, values), reply in zip(pending, replies):
@@ -160,6 +159,35 @@ class ParallelEngine(Engine):
             self.stats.worker_busy_s += reply.busy_s
             self._queue.append(_Pending(self.current, graph, path, node.action, node.attempts,
                                         node.concrete, values, reply))
+
+    def _run(self, tasks: list[WorkTask]) -> list[WorkReply]:
+        """The replies to a batch, in task order: the engine answers the first task, the
+        workers the others — once they are up. They start with the first batch that has
+        work for them (a run without one never pays for them), and until they are ready
+        the engine answers the whole batch itself: a reply depends on its task only."""
+        rest = tasks[1:]
+        beside = bool(rest) and self.pool.ready(self._signature)  # run beside the engine's
+        if beside:
+            self.pool.submit(rest)
+        replies = [handle_task(self.model, self.concretizer, tasks[0])]
+        after = bool(rest) and not beside and self.pool.ready(self._signature)  # up meanwhile
+        if after:
+            self.pool.submit(rest)
+        if beside or after:
+            start = time.perf_counter()
+            replies += self.pool.collect()
+            self.stats.wait_s += time.perf_counter() - start
+        else:
+            replies += [handle_task(self.model, self.concretizer, t) for t in rest]
+        times = [r.busy_s for r in replies]  # the critical path: what ran one after another
+        self.stats.critical_s += (max(times) if beside else times[0] + max(times[1:]) if after
+                                  else sum(times))
+        return replies
+
+    @property
+    def _signature(self) -> tuple[int, int]:
+        """(actions, facts) of the grounded model, which every worker must share."""
+        return len(self.model.actions), len(self.model.facts)
 
     def _still_current(self, item: _Pending) -> bool:
         """Whether the reply still applies: same policy, same unrefined node, same attempt."""

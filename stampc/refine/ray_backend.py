@@ -62,7 +62,7 @@ def _python_path() -> str:
 class RayPool:
     """``n`` actors on the Ray cluster at ``address`` ("": Ray's default)."""
 
-    def __init__(self, spec: WorkerSpec, n: int, address: str):
+    def __init__(self, spec: WorkerSpec, n: int, address: str, wait: bool = False):
         try:
             import ray
         except ImportError:
@@ -77,8 +77,10 @@ class RayPool:
             raise _unavailable(f"cannot connect to {address or 'the default cluster'}: "
                                f"{type(exc).__name__}: {exc}") from None
         self.size = n
-        actor = ray.remote(num_cpus=1, max_restarts=0)(_Actor)
-        self._actors = [actor.remote(spec) for _ in range(n)]
+        self.wait = wait  # as LocalPool's
+        self._spec = spec
+        self._actors: list = []
+        self._status_refs: list = []
         self._ready = False
         self._refs: list = []
 
@@ -90,10 +92,19 @@ class RayPool:
             raise worker_failure("(Ray actor)", f"{type(exc).__name__}: "
                                  f"{str(exc).splitlines()[0] if str(exc) else ''}") from None
 
-    def check(self, signature: tuple[int, int]) -> None:
+    def ready(self, signature: tuple[int, int]) -> bool:
+        """Whether every actor has started (without waiting: the first call creates them)."""
+        if not self._actors:
+            actor = self._ray.remote(num_cpus=1, max_restarts=0)(_Actor)
+            self._actors = [actor.remote(self._spec) for _ in range(self.size)]
+            self._status_refs = [a.status.remote() for a in self._actors]
         if not self._ready:
-            check_status(self._get([a.status.remote() for a in self._actors]), signature)
-            self._ready = True
+            done, _ = self._ray.wait(self._status_refs, num_returns=self.size,
+                                     timeout=None if self.wait else 0)
+            if len(done) == self.size:
+                check_status(self._get(self._status_refs), signature)
+                self._ready = True
+        return self._ready
 
     def submit(self, tasks: list[WorkTask]) -> None:
         self._refs = [self._actors[i % self.size].handle.remote(t) for i, t in enumerate(tasks)]

@@ -7,8 +7,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Callable
 
 from stampc.refine.graph import (PolicyGraph, abstract_goal_probability, count_covered_paths,
-                                 coverage, coverage_and_goal, dead_end_mass,
-                                 goal_probability)
+                                 coverage, dead_end_mass, goal_probability,
+                                 tracked_coverage_and_goal)
 from stampc.refine.options import ProgressEvent, RefineResult
 
 if TYPE_CHECKING:
@@ -63,7 +63,7 @@ class Reporting:
 
 
     def _track(self, prg_node: int, graph: PolicyGraph) -> None:
-        score = coverage_and_goal(graph)
+        score = tracked_coverage_and_goal(graph)
         if score > self.best:
             self.best, self.best_graph, self.best_prg = score, graph.copy(), prg_node
             now = self.elapsed()

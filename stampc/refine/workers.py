@@ -170,30 +170,49 @@ def check_status(statuses: list[tuple], signature: tuple[int, int]) -> None:
 
 
 class LocalPool:
-    """``n`` worker processes of this machine (spawned: no simulator state is forked).
+    """``n`` worker processes of this machine (spawned: no simulator state is forked),
+    started on the first :meth:`ready` (the first batch with work for them); ``wait``: that
+    call waits until they are up (tests: every batch's other tasks then reach a worker).
 
     Task ``i`` of a batch goes to worker ``i mod n``; replies come back in task order."""
 
-    def __init__(self, spec: WorkerSpec, n: int):
-        ctx = multiprocessing.get_context("spawn")
+    def __init__(self, spec: WorkerSpec, n: int, wait: bool = False):
         self.size = n
-        self._conns = []
-        self._procs = []
-        for _ in range(n):
+        self.wait = wait
+        self._spec = spec
+        self._conns: list = []
+        self._procs: list = []
+        self._status: list[tuple] = []  # the start-up reports received so far
+        self._ready = False
+        self._sent = 0
+
+    def ready(self, signature: tuple[int, int]) -> bool:
+        """Whether every worker has started (without waiting: the first call starts them,
+        and they build their model and world meanwhile); raises a worker's start-up
+        diagnostics, or R206 if it grounded another model than ``signature``."""
+        if not self._procs:
+            self._start()
+        while not self._ready and (self.wait or self._conns[len(self._status)].poll()):
+            i = len(self._status)
+            self._status.append(self._recv(i, self._conns[i]))
+            if len(self._status) == self.size:
+                check_status(self._status, signature)
+                self._ready = True
+        return self._ready
+
+    @property
+    def started(self) -> bool:
+        return bool(self._procs)
+
+    def _start(self) -> None:
+        ctx = multiprocessing.get_context("spawn")
+        for _ in range(self.size):
             parent, child = ctx.Pipe()
-            proc = ctx.Process(target=_serve, args=(spec, child), daemon=True)
+            proc = ctx.Process(target=_serve, args=(self._spec, child), daemon=True)
             proc.start()
             child.close()
             self._conns.append(parent)
             self._procs.append(proc)
-        self._ready = False
-        self._sent = 0
-
-    def check(self, signature: tuple[int, int]) -> None:
-        """Wait for every worker to start; raise its diagnostics if one could not."""
-        if not self._ready:
-            check_status([self._recv(i, conn) for i, conn in enumerate(self._conns)], signature)
-            self._ready = True
 
     def submit(self, tasks: list[WorkTask]) -> None:
         """Send task ``i`` to worker ``i mod n`` (answered by :meth:`collect`)."""
@@ -225,7 +244,7 @@ class LocalPool:
                               f"{type(exc).__name__})")
 
     def close(self) -> None:
-        if not self._ready:  # never used (no batch had work for it): still starting, maybe
+        if not self._ready:  # never used (still starting, or never started)
             for proc in self._procs:
                 proc.terminate()
         for conn in self._conns:

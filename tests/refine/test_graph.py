@@ -8,9 +8,9 @@ import pytest
 
 from stampc.ir.grounded import Successor
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph, coverage,
-                                 count_covered_paths,
-                                 dead_end_mass, goal_probability, iter_leaf_paths,
-                                 path_is_covered, select_path)
+                                 count_covered_paths, dead_end_mass, goal_probability,
+                                 iter_leaf_paths)
+from stampc.refine.selection import path_is_covered, select_path
 
 NOOP = Successor(Fraction(1), 0, 0, Fraction(1))
 

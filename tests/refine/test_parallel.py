@@ -12,6 +12,8 @@ import stampc
 from stampc.cli import main
 from stampc.diagnostics import StampcError
 from stampc.refine import RefineOptions
+from stampc.worlds.bindings import resolve_model
+from stampc.worlds.loading import load_scene, open_world
 
 DATA = Path(__file__).parent / "data"
 SHELF = [DATA / "shelf.stamp", DATA / "shelf5.stamp"]
@@ -23,31 +25,67 @@ def refine(files, workers: int, world: str = "plane2d", **options):
                                 options=RefineOptions(**{"time_limit": 120, **options}))
 
 
-def test_two_workers_cover_like_one_and_repeat_exactly():
+def counters(run) -> dict:
+    """The parallel record but its times: the same for the same (seed, N)."""
+    return {k: v for k, v in run.result.parallel.items() if not k.endswith("_s")}
+
+
+def waited(monkeypatch, files, workers: int, **options):
+    """A run whose first batch with work waits for the workers to be up, so that they
+    answer every batch's other tasks (by default the engine answers them until then)."""
+    with monkeypatch.context() as m:
+        m.setenv("STAMPC_WAIT_FOR_WORKERS", "1")
+        return refine(files, workers, **options)
+
+
+def test_two_workers_cover_like_one_and_repeat_exactly(monkeypatch):
     serial = refine(SHELF, 1, seed=1)
-    first, second = refine(SHELF, 2, seed=1), refine(SHELF, 2, seed=1)
+    first, second = refine(SHELF, 2, seed=1), waited(monkeypatch, SHELF, 2, seed=1)
     assert serial.result.parallel is None
     assert first.result.coverage == pytest.approx(serial.result.coverage) == pytest.approx(1.0)
-    assert first.to_json()["nodes"] == second.to_json()["nodes"]   # same (seed, N): same policy
+    # same (seed, N): same policy, whether the engine or a worker answered a task
+    assert first.to_json()["nodes"] == second.to_json()["nodes"]
     assert [e.kind for e in first.result.events] == [e.kind for e in second.result.events]
-    stats = first.result.parallel
+    assert counters(first) == counters(second)
+    stats = second.result.parallel
     assert stats["workers"] == 2 and stats["dispatched"] > stats["batches"]  # real batches
     assert stats["integrated"] + stats["discarded"] + stats["unused"] == stats["dispatched"]
-    assert stats["worker_busy_s"] > 0
+    # the worker answered tasks beside the engine's: per batch the longest < the sum
+    assert 0 < stats["critical_s"] < stats["worker_busy_s"]
 
 
-def test_pybullet_keva_tower_in_parallel(tmp_path):
+def test_no_worker_starts_without_two_nodes_to_run(probe):
+    from stampc.api import _build_worker, _open_pool
+    from stampc.refine import run_refinement
+    from stampc.refine.workers import WorkerSpec
+
+    files = probe("fine", sure=True)  # one node to refine at a time
+    model = stampc.load_model(files)
+    scene = load_scene(model.problem, Path(files[-1]).parent)
+    world = open_world("plane2d", scene, seed=0)
+    pool = _open_pool(WorkerSpec(tuple(files), "plane2d", scene, 0, _build_worker), 1, None)
+    try:
+        run = run_refinement(stampc.ground(model), world, resolve_model(model, world.package),
+                             RefineOptions(seed=0, time_limit=60), pool=pool)
+    finally:
+        pool.close()
+        world.close()
+    assert run.result.coverage == pytest.approx(1.0)
+    assert run.result.parallel["dispatched"] == run.result.parallel["batches"] > 1
+    assert not pool.started
+
+
+def test_pybullet_keva_tower_in_parallel(tmp_path, monkeypatch):
     from examples.keva.scene import write_problem
     problem = write_problem(tmp_path / "tower3.stamp", seed=0, structure="tower", levels=3)
     files = [REPO / "examples" / "keva" / "domain.stamp", problem]
     serial = refine(files, 1, world="pybullet", seed=0)
     first = refine(files, 2, world="pybullet", seed=0)
-    second = refine(files, 2, world="pybullet", seed=0)
+    second = waited(monkeypatch, files, 2, world="pybullet", seed=0)
     assert first.result.coverage == pytest.approx(serial.result.coverage) == pytest.approx(1.0)
     assert first.to_json()["nodes"] == second.to_json()["nodes"]
-    assert first.result.parallel == {**second.result.parallel,
-                                     "wait_s": first.result.parallel["wait_s"],
-                                     "worker_busy_s": first.result.parallel["worker_busy_s"]}
+    assert counters(first) == counters(second) and len(counters(first)) == 7
+    assert second.result.parallel["critical_s"] < second.result.parallel["worker_busy_s"]
     assert first.result.parallel["dispatched"] > first.result.parallel["batches"]
 
 
@@ -68,17 +106,19 @@ generator make(x: thing) -> (k: token)
 
 action toss()
     pre  not tossed
-    eff  probabilistic
-             1/2 as h:
-                 tossed
-                 heads
-             1/2 as t: tossed
+    eff  {toss}
 
 action finish(x: thing, k: token)
     pre  tossed
          made(x, k)
     eff  done(x)
 """
+
+COIN = """probabilistic
+             1/2 as h:
+                 tossed
+                 heads
+             1/2 as t: tossed"""
 
 PROBLEM = """\
 problem probe1 for probe
@@ -103,23 +143,28 @@ KITS = {
 def probe(tmp_path, monkeypatch):
     monkeypatch.syspath_prepend(str(tmp_path))  # spawned workers inherit sys.path
 
-    def make(tag: str) -> list[str]:
+    def make(tag: str, sure: bool = False) -> list[str]:
+        """The probe with kit ``tag``; ``sure``: the toss has one outcome (no two nodes
+        to refine at once)."""
+        name = f"probe_{tag}{'_sure' if sure else ''}.stamp"
         (tmp_path / f"workerkit_{tag}.py").write_text(KITS[tag])
-        (tmp_path / f"probe_{tag}.stamp").write_text(DOMAIN.format(tag=tag))
+        (tmp_path / name).write_text(DOMAIN.format(tag=tag, toss="tossed" if sure else COIN))
         (tmp_path / "problem.stamp").write_text(PROBLEM)
-        return [str(tmp_path / f"probe_{tag}.stamp"), str(tmp_path / "problem.stamp")]
+        return [str(tmp_path / name), str(tmp_path / "problem.stamp")]
 
     return make
 
 
-def test_probe_sends_a_node_to_a_worker(probe):
-    run = refine(probe("fine"), 2, seed=0)
+def test_probe_sends_a_node_to_a_worker(probe, monkeypatch):
+    run = waited(monkeypatch, probe("fine"), 2, seed=0)
     assert run.result.coverage == pytest.approx(1.0)
     assert run.result.parallel["dispatched"] > run.result.parallel["batches"]
+    assert run.result.parallel["critical_s"] < run.result.parallel["worker_busy_s"]
 
 
-def test_a_worker_that_dies_is_a_located_diagnostic(probe, capsys):
+def test_a_worker_that_dies_is_a_located_diagnostic(probe, capsys, monkeypatch):
     files = probe("dies")
+    monkeypatch.setenv("STAMPC_WAIT_FOR_WORKERS", "1")  # the batch's second task: the worker
     with pytest.raises(StampcError) as info:
         refine(files, 2, seed=0)
     assert [d.code for d in info.value.diagnostics] == ["R206"]
@@ -128,8 +173,9 @@ def test_a_worker_that_dies_is_a_located_diagnostic(probe, capsys):
     assert "R206" in err and "exit code 3" in err and "Traceback" not in err
 
 
-def test_user_code_raising_in_a_worker_is_located_at_its_binding(probe, capsys):
+def test_user_code_raising_in_a_worker_is_located_at_its_binding(probe, capsys, monkeypatch):
     files = probe("raises")
+    monkeypatch.setenv("STAMPC_WAIT_FOR_WORKERS", "1")
     with pytest.raises(StampcError) as info:
         refine(files, 2, seed=0)
     assert [(d.code, d.span.line) for d in info.value.diagnostics] == [("R201", 11)]
