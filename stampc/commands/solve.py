@@ -49,6 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="do not merge states that differ by a permutation of "
                              "interchangeable objects (default: merged, exact; the policy "
                              "graph then lists one state per orbit)")
+    parser.add_argument("--no-relevance", action="store_true",
+                        help="do not clear the facts no reachable action reads from the "
+                             "states searched (default: cleared, exact; see "
+                             "docs/solvers.md)")
     parser.add_argument("--format", choices=("text", "json"), default="text")
     parser.add_argument("-o", "--output", metavar="FILE", help="write the policy as JSON")
     parser.add_argument("--dot", metavar="FILE", help="write the policy graph as Graphviz DOT")
@@ -115,7 +119,8 @@ def run(args: argparse.Namespace) -> int:
                             epsilon=args.epsilon, dead_end_cost=args.dead_end_cost,
                             unit_cost=args.unit_cost, horizon=args.horizon,
                             time_limit=args.time_limit, seed=args.seed, weight=args.weight,
-                            symmetry=not args.no_symmetry)
+                            symmetry=not args.no_symmetry,
+                            relevance=not args.no_relevance)
     start, cpu_start = time.perf_counter(), time.process_time()
     try:
         check_options(options)

@@ -20,6 +20,7 @@ from stampc.ir.masks import FactSet, indices
 from stampc.solvers.float_effects import branches, compile_effect, condition_check, sample
 
 if TYPE_CHECKING:
+    from stampc.solvers.relevance import Relevance
     from stampc.solvers.symmetry import ObjectSymmetry
 
 #: A solver transition: (action index, expected cost, probabilities, next states).
@@ -34,22 +35,38 @@ _UNSET = object()
 _NOOP_TOLERANCE = 1e-12
 
 
+def _reducer(symmetry: ObjectSymmetry | None, relevance: Relevance | None):
+    """(parent, next state) -> the state to search instead: irrelevant facts cleared,
+    then the orbit representative (both keep V*), or None when neither applies."""
+    if relevance is None:
+        return symmetry.successor if symmetry is not None else None
+    if symmetry is None:
+        return relevance.successor
+    relevant, orbit = relevance.successor, symmetry.successor
+    return lambda parent, state: orbit(parent, relevant(parent, state))
+
+
 class SuccessorCache:
     """State -> applicable actions -> float outcome lists, cached per state.
 
     ``unit_cost=True`` makes every action cost 1 whatever the model declares (the
     convention of the C++ reference solver and of IPPC-2006 goal-probability domains).
     ``symmetry`` (``symmetry.ObjectSymmetry``) replaces every next state by the
-    representative of its orbit under interchangeable objects (same optimal value).
+    representative of its orbit under interchangeable objects (same optimal value);
+    ``relevance`` (``relevance.Relevance``) first clears its irrelevant facts (same too).
     """
 
     def __init__(self, model: GroundModel, unit_cost: bool = False,
-                 symmetry: ObjectSymmetry | None = None):
+                 symmetry: ObjectSymmetry | None = None,
+                 relevance: Relevance | None = None):
         self.model = model
         self.unit_cost = unit_cost
         self.symmetry = symmetry if symmetry else None
+        self.relevance = relevance
         #: the orbit representative of a state, or None without symmetry
         self.canonical = self.symmetry.canonical if self.symmetry else None
+        #: (parent, next state) -> the state searched instead, or None: no reduction
+        self._rep = _reducer(self.symmetry, relevance)
         self._checks = [condition_check(a.precondition) for a in model.actions]
         # Float outcome lists of state-independent actions, built on first use: models such
         # as rectangle-tireworld ground 10^5 actions of which a search touches few.
@@ -150,9 +167,9 @@ class SuccessorCache:
             unit = self.unit_cost
             outs = tuple((float(o.probability), o.apply(state), 1.0 if unit else float(o.cost))
                          for o in self.model.actions[action].outcomes(state))
-        if self.symmetry is None:
+        rep = self._rep
+        if rep is None:
             return outs
-        rep = self.symmetry.successor
         return tuple((p, rep(state, n), c) for p, n, c in outs)
 
     def transitions(self, state: int, *, eliminate_self_loops: bool = True) -> tuple[Transition, ...]:
@@ -188,9 +205,9 @@ class SuccessorCache:
         close = self._close
         if close is not None:
             outs = [(p, close(nxt), c) for p, nxt, c in outs]
-        if self.symmetry is None:
+        rep = self._rep
+        if rep is None:
             return outs
-        rep = self.symmetry.successor
         return [(p, rep(state, nxt), c) for p, nxt, c in outs]
 
     def sample_outcome(self, state: int, action: int, rng) -> tuple[int, float]:
@@ -205,7 +222,7 @@ class SuccessorCache:
         base = 1.0 if self.unit_cost else float(ground.base_cost)
         if self._close is not None:
             nxt = self._close(nxt)
-        return (nxt if self.symmetry is None else self.symmetry.successor(state, nxt)), base + cost
+        return (nxt if self._rep is None else self._rep(state, nxt)), base + cost
 
     def _compiled_effect(self, action: int):
         compiled = self._compiled.get(action)
