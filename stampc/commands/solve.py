@@ -15,7 +15,7 @@ from stampc.commands.common import (EXIT_DONE, EXIT_STOPPED_SHORT, add_import_op
 from stampc.diagnostics import StampcError
 
 #: Seconds the simulation may run past ``--time-limit`` (counted from the start).
-SIMULATION_GRACE_S = 1.0
+SIMULATION_GRACE_S = 0.5
 
 HELP = "solve the abstract SSP (LAO*, LRTDP or VI) and write the policy"
 

@@ -26,9 +26,12 @@ spares left behind collapse into one. Models with derived facts are left alone.
 
 from __future__ import annotations
 
+from typing import Sequence
+
 from stampc.ir.grounded import GEffect, GLit, GroundCondition, GroundModel
 from stampc.ir.masks import indices
 from stampc.solvers.heuristics import _relaxed_adds, condition_facts, relaxed_state
+from stampc.solvers.successors import Outcome
 
 #: After this many next states without a single cleared fact the reduction switches
 #: itself off (a count, not a time: deterministic). Blocksworld-like models read every
@@ -154,21 +157,25 @@ class Relevance:
         """``state`` without the irrelevant facts that can be cleared (same V*)."""
         return state & ~self.clearable(state)
 
-    def successor(self, parent: int, state: int) -> int:
-        """``state`` (a next state of ``parent``) without the facts clearable from
-        ``parent``: whatever ``state`` reaches, ``parent`` reaches, so those are
-        irrelevant in ``state`` too — one reachability walk per expansion instead of
-        one per next state. After GIVE_UP_AFTER next states with nothing cleared,
-        ``state`` itself."""
+    def reduce(self, parent: int, outcomes: Sequence[Outcome]) -> Sequence[Outcome]:
+        """``outcomes`` (probability, next state, cost) of an action in ``parent`` with
+        the facts clearable from ``parent`` cleared from each next state: whatever a
+        next state reaches, ``parent`` reaches, so those are irrelevant there too — one
+        reachability walk per expanded state, not per next state. After GIVE_UP_AFTER
+        next states with nothing cleared, ``outcomes`` unchanged from then on."""
         if not self.active:
-            return state
-        out = state & ~self.clearable(parent)
-        self.seen += 1
-        if out != state:
-            self.reduced += 1
-        elif not self.reduced and self.seen >= GIVE_UP_AFTER:
+            return outcomes
+        clear = self.clearable(parent)
+        self.seen += len(outcomes)
+        if clear:
+            hit = sum(1 for o in outcomes if o[1] & clear)
+            if hit:
+                self.reduced += hit
+                keep = ~clear
+                return [(p, n & keep, c) for p, n, c in outcomes]
+        if not self.reduced and self.seen >= GIVE_UP_AFTER:
             self.active = False
-        return out
+        return outcomes
 
 
 def find_relevance(model: GroundModel) -> Relevance | None:

@@ -35,17 +35,6 @@ _UNSET = object()
 _NOOP_TOLERANCE = 1e-12
 
 
-def _reducer(symmetry: ObjectSymmetry | None, relevance: Relevance | None):
-    """(parent, next state) -> the state to search instead: irrelevant facts cleared,
-    then the orbit representative (both keep V*), or None when neither applies."""
-    if relevance is None:
-        return symmetry.successor if symmetry is not None else None
-    if symmetry is None:
-        return relevance.successor
-    relevant, orbit = relevance.successor, symmetry.successor
-    return lambda parent, state: orbit(parent, relevant(parent, state))
-
-
 class SuccessorCache:
     """State -> applicable actions -> float outcome lists, cached per state.
 
@@ -65,8 +54,6 @@ class SuccessorCache:
         self.relevance = relevance
         #: the orbit representative of a state, or None without symmetry
         self.canonical = self.symmetry.canonical if self.symmetry else None
-        #: (parent, next state) -> the state searched instead, or None: no reduction
-        self._rep = _reducer(self.symmetry, relevance)
         self._checks = [condition_check(a.precondition) for a in model.actions]
         # Float outcome lists of state-independent actions, built on first use: models such
         # as rectangle-tireworld ground 10^5 actions of which a search touches few.
@@ -167,10 +154,9 @@ class SuccessorCache:
             unit = self.unit_cost
             outs = tuple((float(o.probability), o.apply(state), 1.0 if unit else float(o.cost))
                          for o in self.model.actions[action].outcomes(state))
-        rep = self._rep
-        if rep is None:
+        if self.relevance is None and self.symmetry is None:
             return outs
-        return tuple((p, rep(state, n), c) for p, n, c in outs)
+        return tuple(self._reduce(state, outs))
 
     def transitions(self, state: int, *, eliminate_self_loops: bool = True) -> tuple[Transition, ...]:
         """Solver transitions of ``state``: identical next states merged, expected cost.
@@ -205,9 +191,18 @@ class SuccessorCache:
         close = self._close
         if close is not None:
             outs = [(p, close(nxt), c) for p, nxt, c in outs]
-        rep = self._rep
-        if rep is None:
+        if self.relevance is None and self.symmetry is None:
             return outs
+        return self._reduce(state, outs)
+
+    def _reduce(self, state: int, outs: Sequence[Outcome]) -> Sequence[Outcome]:
+        """The next states searched instead of ``state``'s: irrelevant facts cleared,
+        then each one's orbit representative (both keep V*)."""
+        if self.relevance is not None:
+            outs = self.relevance.reduce(state, outs)
+        if self.symmetry is None:
+            return outs
+        rep = self.symmetry.successor
         return [(p, rep(state, nxt), c) for p, nxt, c in outs]
 
     def sample_outcome(self, state: int, action: int, rng) -> tuple[int, float]:
@@ -222,7 +217,9 @@ class SuccessorCache:
         base = 1.0 if self.unit_cost else float(ground.base_cost)
         if self._close is not None:
             nxt = self._close(nxt)
-        return (nxt if self._rep is None else self._rep(state, nxt)), base + cost
+        if self.relevance is None and self.symmetry is None:
+            return nxt, base + cost
+        return self._reduce(state, [(1.0, nxt, 0.0)])[0][1], base + cost
 
     def _compiled_effect(self, action: int):
         compiled = self._compiled.get(action)

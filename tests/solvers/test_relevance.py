@@ -30,8 +30,11 @@ def _check_reductions(model, unit: bool) -> int:
     for s in reachable_states(model):
         pairs = [(s, relevance.canonical(s))]
         if not model.is_goal(s):
-            pairs += [(t, relevance.successor(s, t)) for a in model.actions
-                      if a.precondition.holds(s) for t in (o.apply(s) for o in a.outcomes(s))]
+            for a in model.actions:
+                if a.precondition.holds(s):
+                    outs = [(1.0, o.apply(s), 0.0) for o in a.outcomes(s)]
+                    pairs += [(t, c) for (_, t, _), (_, c, _) in
+                              zip(outs, relevance.reduce(s, outs))]
         for t, c in pairs:
             assert c & ~t == 0  # facts are only cleared
             if c != t:
