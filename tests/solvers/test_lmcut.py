@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import pytest
-from ssp_builders import random_conditional_model, random_model, reference_values
+from ssp_builders import ModelBuilder, random_conditional_model, random_model, reference_values
 
 from stampc import api
 from stampc.solvers import SolverOptions, solve
@@ -31,6 +32,39 @@ def test_lmcut_never_exceeds_optimal_cost_on_any_state(make, unit_cost):
             stronger += h > hmax(state) + 1e-9
     if make is random_model:  # without ``when`` effects it is strictly more informed
         assert stronger > 0
+
+
+def _single_when_model(seed: int):
+    """Boxworld's shape: no precondition, the whole effect one ``when`` (with a nested
+    one inside a probabilistic block)."""
+    import random
+    from stampc.ir.grounded import GEffect, GProb
+    rng = random.Random(seed)
+    names = [f"f{i}" for i in range(5)]
+    b = ModelBuilder(names)
+    for k in range(6):
+        nested = (b.cond(rng.sample(names, 1)), b.effect(rng.sample(names, 1), []))
+        block = GProb(((Fraction(3, 4), b.effect(rng.sample(names, 1), [], whens=[nested])),))
+        inner = GEffect(add=b.mask(rng.sample(names, 1)), delete=b.mask(rng.sample(names, 1)),
+                        blocks=(block,))
+        cond = b.cond(rng.sample(names, rng.randint(1, 2)), rng.sample(names, rng.randint(0, 1)))
+        b.action(f"w{k}", effect=GEffect(whens=((cond, inner),)), cost=rng.randint(1, 3))
+    return b.build([n for n in names if rng.random() < 0.4], rng.sample(names, 2))
+
+
+@pytest.mark.parametrize("unit_cost", [True, False])
+def test_lmcut_charges_a_sole_when_and_stays_admissible(unit_cost):
+    # the sole top-level ``when`` of an action carries its cost (once per application)
+    stronger = 0
+    for seed in range(80):
+        model = _single_when_model(seed)
+        exact = reference_values(model, D, unit_cost=unit_cost)
+        lm = make_heuristic("lmcut", model, unit_cost)
+        hmax = make_heuristic("hmax", model, unit_cost)
+        for state, value in exact.items():
+            assert min(lm(state), D) <= value + 1e-9, (seed, state)
+            stronger += lm(state) > hmax(state) + 1e-9
+    assert stronger > 0
 
 
 @pytest.mark.parametrize("instance", ["ippc2006-tireworld/p03.pddl",
