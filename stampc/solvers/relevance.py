@@ -107,6 +107,11 @@ class Relevance:
         #: facts whose negative literal nothing needs: clearing them is always safe
         self.free_negative = self.full & ~(self.entries.needed_negative | goal_negative)
         self._cache: dict[int, int] = {}
+        # the reference state of _counts: the initial state at first
+        self._ref_state = model.init & self.full
+        lacking = ~relaxed_state(self._ref_state, n, self.full)
+        self._ref_counts = [(m & lacking).bit_count() for m in self.entries.pre_masks]
+        self._ref_zero = {i for i, c in enumerate(self._ref_counts) if not c}
         self.seen = 0     # next states canonicalised
         self.reduced = 0  # ... of which lost at least one fact
         self.active = True
@@ -114,22 +119,51 @@ class Relevance:
     def __bool__(self) -> bool:
         return True
 
-    def _reach(self, state: int) -> tuple[int, int]:
-        """(relaxed literals reachable from ``state``, facts read by reachable entries)."""
+    def _counts(self, state: int) -> tuple[list[int], set[int]]:
+        """Missing-precondition counters of ``state`` and the entries at 0, from the
+        previous state's through the facts the two differ in (as ``layered.py`` does:
+        consecutive expansions are near each other); ``state`` becomes the reference."""
+        n, users = self.n, self.entries.users
+        counts, zero = list(self._ref_counts), set(self._ref_zero)
+        diff = (state ^ self._ref_state) & self.full
+        while diff:
+            low = diff & -diff
+            diff ^= low
+            f = low.bit_length() - 1
+            on, off = (f, n + f) if state & low else (n + f, f)
+            for i in users[off]:  # a literal lost: its users miss one more
+                if not counts[i]:
+                    zero.discard(i)
+                counts[i] += 1
+            for i in users[on]:
+                c = counts[i] - 1
+                counts[i] = c
+                if not c:
+                    zero.add(i)
+        self._ref_state, self._ref_counts, self._ref_zero = state, list(counts), set(zero)
+        return counts, zero
+
+    def _clearable(self, state: int) -> int:
+        """The relaxation from ``state`` walked until it settles which facts that can
+        hold in a next state (``state``'s and those its applicable entries add) some
+        reachable entry reads; the rest of them is clearable where ``¬p`` is harmless
+        or reached. The walk stops early once all of them are read."""
         e = self.entries
-        reached = relaxed_state(state, self.n, self.full)
-        counts = [0] * len(e.pres)
-        queue = []
-        lacking = ~reached
-        for i, m in enumerate(e.pre_masks):
-            c = counts[i] = (m & lacking).bit_count()
-            if not c:
-                queue.append(i)
-        reads = self.goal_reads
+        full = self.full
+        reached = relaxed_state(state, self.n, full)
+        counts, zero = self._counts(state)
         adds, users, entry_reads = e.adds, e.users, e.reads
-        while queue:
+        may_hold = state
+        for i in zero:
+            may_hold |= adds[i] & full
+        reads = self.goal_reads
+        watch = may_hold & ~reads  # facts still possibly clearable
+        queue = list(zero)  # the closure does not depend on the order
+        while queue and watch:
             i = queue.pop()
-            reads |= entry_reads[i]
+            if entry_reads[i] & watch:
+                reads |= entry_reads[i]
+                watch &= ~reads
             new = adds[i] & ~reached
             if not new:
                 continue
@@ -138,19 +172,19 @@ class Relevance:
                 low = new & -new
                 new ^= low
                 for j in users[low.bit_length() - 1]:
-                    counts[j] -= 1
-                    if not counts[j]:
+                    c = counts[j] - 1
+                    counts[j] = c
+                    if not c:
                         queue.append(j)
-        return reached, reads
+        return watch & (self.free_negative | (reached >> self.n))
 
     def clearable(self, state: int) -> int:
-        """The facts that may be cleared from ``state`` and from every state reachable
-        from it: irrelevant in ``state``, and their absence harmless or reachable."""
+        """The facts that may be cleared from the next states of ``state`` and from every
+        state reachable from them: irrelevant in ``state``, their absence harmless or
+        reachable, and possibly true in a next state."""
         got = self._cache.get(state)
         if got is None:
-            reached, reads = self._reach(state)
-            got = self._cache[state] = ~reads & self.full & (self.free_negative
-                                                              | (reached >> self.n))
+            got = self._cache[state] = self._clearable(state)
         return got
 
     def canonical(self, state: int) -> int:
