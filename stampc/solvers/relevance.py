@@ -31,6 +31,7 @@ from typing import Sequence
 from stampc.ir.grounded import GEffect, GLit, GroundCondition, GroundModel
 from stampc.ir.masks import indices
 from stampc.solvers.heuristics import _relaxed_adds, condition_facts, relaxed_state
+from stampc.solvers.layered import CarriedCounts, released
 from stampc.solvers.successors import Outcome
 
 #: After this many next states without a single cleared fact the reduction switches
@@ -107,41 +108,19 @@ class Relevance:
         #: facts whose negative literal nothing needs: clearing them is always safe
         self.free_negative = self.full & ~(self.entries.needed_negative | goal_negative)
         self._cache: dict[int, int] = {}
-        # the reference state of _counts: the initial state at first
-        self._ref_state = model.init & self.full
-        lacking = ~relaxed_state(self._ref_state, n, self.full)
-        self._ref_counts = [(m & lacking).bit_count() for m in self.entries.pre_masks]
-        self._ref_zero = {i for i, c in enumerate(self._ref_counts) if not c}
+        # counters carried from walk to walk (layered.py's): consecutive expansions
+        # are near each other; the initial state's at first
+        init = model.init & self.full
+        lacking = ~relaxed_state(init, n, self.full)
+        counts = [(m & lacking).bit_count() for m in self.entries.pre_masks]
+        self._counts = CarriedCounts(self.entries.users, n, init, counts,
+                                     {i for i, c in enumerate(counts) if not c})
         self.seen = 0     # next states canonicalised
         self.reduced = 0  # ... of which lost at least one fact
         self.active = True
 
     def __bool__(self) -> bool:
         return True
-
-    def _counts(self, state: int) -> tuple[list[int], set[int]]:
-        """Missing-precondition counters of ``state`` and the entries at 0, from the
-        previous state's through the facts the two differ in (as ``layered.py`` does:
-        consecutive expansions are near each other); ``state`` becomes the reference."""
-        n, users = self.n, self.entries.users
-        counts, zero = list(self._ref_counts), set(self._ref_zero)
-        diff = (state ^ self._ref_state) & self.full
-        while diff:
-            low = diff & -diff
-            diff ^= low
-            f = low.bit_length() - 1
-            on, off = (f, n + f) if state & low else (n + f, f)
-            for i in users[off]:  # a literal lost: its users miss one more
-                if not counts[i]:
-                    zero.discard(i)
-                counts[i] += 1
-            for i in users[on]:
-                c = counts[i] - 1
-                counts[i] = c
-                if not c:
-                    zero.add(i)
-        self._ref_state, self._ref_counts, self._ref_zero = state, list(counts), set(zero)
-        return counts, zero
 
     def _clearable(self, state: int) -> int:
         """The relaxation from ``state`` walked until it settles which facts that can
@@ -168,14 +147,7 @@ class Relevance:
             if not new:
                 continue
             reached |= new
-            while new:
-                low = new & -new
-                new ^= low
-                for j in users[low.bit_length() - 1]:
-                    c = counts[j] - 1
-                    counts[j] = c
-                    if not c:
-                        queue.append(j)
+            queue += released(new, users, counts)
         return watch & (self.free_negative | (reached >> self.n))
 
     def clearable(self, state: int) -> int:
