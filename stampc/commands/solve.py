@@ -14,6 +14,9 @@ from stampc.commands.common import (EXIT_DONE, EXIT_STOPPED_SHORT, add_import_op
                                     print_warnings, reports_errors)
 from stampc.diagnostics import StampcError
 
+#: Seconds the simulation may run past ``--time-limit`` (counted from the start).
+SIMULATION_GRACE_S = 0.5
+
 HELP = "solve the abstract SSP (LAO*, LRTDP or VI) and write the policy"
 
 
@@ -49,6 +52,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="do not merge states that differ by a permutation of "
                              "interchangeable objects (default: merged, exact; the policy "
                              "graph then lists one state per orbit)")
+    parser.add_argument("--no-relevance", action="store_true",
+                        help="do not clear the facts no reachable action reads from the "
+                             "states searched (default: cleared, exact; see "
+                             "docs/solvers.md)")
     parser.add_argument("--format", choices=("text", "json"), default="text")
     parser.add_argument("-o", "--output", metavar="FILE", help="write the policy as JSON")
     parser.add_argument("--dot", metavar="FILE", help="write the policy graph as Graphviz DOT")
@@ -115,7 +122,8 @@ def run(args: argparse.Namespace) -> int:
                             epsilon=args.epsilon, dead_end_cost=args.dead_end_cost,
                             unit_cost=args.unit_cost, horizon=args.horizon,
                             time_limit=args.time_limit, seed=args.seed, weight=args.weight,
-                            symmetry=not args.no_symmetry)
+                            symmetry=not args.no_symmetry,
+                            relevance=not args.no_relevance)
     start, cpu_start = time.perf_counter(), time.process_time()
     try:
         check_options(options)
@@ -141,8 +149,19 @@ def run(args: argparse.Namespace) -> int:
         solution, bounds = solve_bounded(model, options, relative=not args.absolute_gap)
     total_s = time.perf_counter() - start
     cpu_s = time.process_time() - cpu_start  # robust to other load on a shared machine
-    sim = (simulate(model, solution, runs=args.simulate, seed=args.seed, max_steps=args.max_steps)
-           if args.simulate else None)
+    sim = None
+    if args.simulate:
+        # with a time limit the simulation gets SIMULATION_GRACE_S past it, then reports
+        # the runs done (an unfinished policy is simulated with lookahead searches)
+        deadline = (None if args.time_limit is None
+                    else start + args.time_limit + SIMULATION_GRACE_S)
+        sim = simulate(model, solution, runs=args.simulate, seed=args.seed,
+                       max_steps=args.max_steps, deadline=deadline)
+        if sim.stopped_at_deadline:
+            print(f"note: simulation stopped at the time limit after {sim.runs} of "
+                  f"{args.simulate} runs", file=sys.stderr)
+        if not sim.runs:
+            sim = None
     report = _report(args, solution, bounds, sim, parse_ground_s, total_s, cpu_s)
     try:
         if args.output:

@@ -66,6 +66,7 @@ def _compatible(warm: Solution, model: GroundModel, options: SolverOptions,
             and w.unit_cost == options.unit_cost and w.dead_end_cost == options.dead_end_cost
             and warm.horizon == horizon and w.heuristic == options.heuristic
             and w.weight == options.weight and w.symmetry == options.symmetry
+            and w.relevance == options.relevance
             and w.forbidden <= options.forbidden)
 
 
@@ -98,6 +99,14 @@ def _symmetry(model: GroundModel, options: SolverOptions):
     return find_symmetry(model) or None
 
 
+def _relevance(model: GroundModel, options: SolverOptions):
+    """The irrelevant-fact reduction when ``options.relevance`` applies, else None."""
+    if not options.relevance:
+        return None
+    from stampc.solvers.relevance import find_relevance
+    return find_relevance(model)
+
+
 def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None,
                  warm: Solution | None, learned: tuple[int, int] | None = None) -> Search:
     if warm is not None and _compatible(warm, model, options, horizon):
@@ -117,7 +126,8 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
         cache, h = old.space.cache, old.space.h
         warm_values = dict(old.V)
     else:
-        cache = SuccessorCache(model, options.unit_cost, _symmetry(model, options))
+        cache = SuccessorCache(model, options.unit_cost, _symmetry(model, options),
+                               _relevance(model, options))
         h = make_heuristic(options.heuristic, model, options.unit_cost, options.weight)
         warm_values = transfer = None
     guide = steps = None

@@ -40,6 +40,13 @@ def policy_entries(model: GroundModel, solution: Solution) -> list[dict]:
     return entries
 
 
+def _relevance_reduced(solution: Solution) -> int | None:
+    if solution.search is None or solution.table is not None:
+        return None
+    relevance = solution.search.space.cache.relevance
+    return None if relevance is None else relevance.reduced
+
+
 def summary(solution: Solution) -> dict:
     return {"expected_cost": solution.expected_cost,
             "goal_probability": solution.goal_probability,
@@ -53,6 +60,8 @@ def summary(solution: Solution) -> dict:
             # interchangeable objects were found and states merged per orbit (symmetry.py)
             "orbits": bool(solution.search is not None and solution.table is None
                            and solution.search.space.cache.canonical is not None),
+            # next states that lost irrelevant facts (relevance.py), None when off
+            "relevance_reduced": _relevance_reduced(solution),
             "options": {k: v for k, v in asdict(solution.options).items() if k != "forbidden"}}
 
 

@@ -53,28 +53,33 @@ def relevant_actions(rm: _Relaxed) -> set[int]:
     return relevant
 
 
-class LayeredHmax:
-    """h_max of a state (``inf``: the relaxation cannot reach the goal) for relaxed
-    actions that all cost ``unit`` (> 0)."""
+def released(literals: int, users: Sequence[list[int]], counts: list[int]) -> list[int]:
+    """The actions whose last missing precondition is among ``literals`` (newly
+    reached): every user's counter drops by one, those reaching 0 are returned."""
+    out = []
+    while literals:
+        low = literals & -literals
+        literals ^= low
+        for i in users[low.bit_length() - 1]:
+            c = counts[i] - 1
+            counts[i] = c
+            if not c:
+                out.append(i)
+    return out
 
-    def __init__(self, rm: _Relaxed, unit: float):
-        self.n, self.full, self.unit = rm.n, rm.full, unit
-        relevant = relevant_actions(rm)
-        #: literal -> the relevant relaxed actions needing it
-        self.users: Sequence[list[int]] = [[i for i in u if i in relevant] for u in rm.users]
-        self.add_masks: Sequence[int] = rm.add_masks
-        self.goal = rm.goal_mask
-        #: literals some relevant action needs: the only ones whose users are walked
-        self.has_users = sum(1 << lit for lit, u in enumerate(self.users) if u)
-        # the reference: the last state evaluated, its counters and zero-counter actions
-        # (the counters of irrelevant actions are never read)
-        self.ref_state = rm.ref_state
-        self.ref_counts = list(rm.ref_counts)
-        self.ref_zero = {i for i, c in enumerate(rm.ref_counts) if not c and i in relevant}
 
-    def _counts(self, state: int) -> tuple[list[int], set[int]]:
-        """Missing-precondition counters of ``state`` and the actions at 0, from the
-        reference's through the facts the two differ in; ``state`` becomes the reference."""
+class CarriedCounts:
+    """Per relaxed action, how many precondition literals a state lacks, and the actions
+    at 0: the previous state's counters corrected for the facts the two differ in
+    (``users[literal]`` lists the actions needing the literal; literal ``n + i`` is fact
+    ``i`` false). Each call's state becomes the reference of the next."""
+
+    def __init__(self, users: Sequence[list[int]], n: int, state: int,
+                 counts: list[int], zero: set[int]):
+        self.users, self.n, self.full = users, n, (1 << n) - 1
+        self.ref_state, self.ref_counts, self.ref_zero = state, list(counts), set(zero)
+
+    def __call__(self, state: int) -> tuple[list[int], set[int]]:
         n, users = self.n, self.users
         counts = list(self.ref_counts)
         zero = set(self.ref_zero)
@@ -95,6 +100,26 @@ class LayeredHmax:
                     zero.add(i)
         self.ref_state, self.ref_counts, self.ref_zero = state, list(counts), set(zero)
         return counts, zero
+
+
+class LayeredHmax:
+    """h_max of a state (``inf``: the relaxation cannot reach the goal) for relaxed
+    actions that all cost ``unit`` (> 0)."""
+
+    def __init__(self, rm: _Relaxed, unit: float):
+        self.n, self.full, self.unit = rm.n, rm.full, unit
+        relevant = relevant_actions(rm)
+        #: literal -> the relevant relaxed actions needing it
+        self.users: Sequence[list[int]] = [[i for i in u if i in relevant] for u in rm.users]
+        self.add_masks: Sequence[int] = rm.add_masks
+        self.goal = rm.goal_mask
+        #: literals some relevant action needs: the only ones whose users are walked
+        self.has_users = sum(1 << lit for lit, u in enumerate(self.users) if u)
+        # counters carried from the last state evaluated (those of irrelevant actions
+        # are never read)
+        self._counts = CarriedCounts(self.users, self.n, rm.ref_state, rm.ref_counts,
+                                     {i for i, c in enumerate(rm.ref_counts)
+                                      if not c and i in relevant})
 
     def __call__(self, state: int) -> float:
         n = self.n
@@ -117,11 +142,5 @@ class LayeredHmax:
             if reached & goal == goal:
                 return level * self.unit
             frontier, new = new & has_users, 0
-            while frontier:
-                low = frontier & -frontier
-                frontier ^= low
-                for i in users[low.bit_length() - 1]:
-                    c = counts[i] - 1
-                    counts[i] = c
-                    if not c:
-                        new |= add_masks[i]
+            for i in released(frontier, users, counts):
+                new |= add_masks[i]

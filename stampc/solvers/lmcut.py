@@ -3,7 +3,8 @@ determinization — admissible, and never below h_max.
 
 The relaxed actions (:func:`relaxed_actions`) are one per ground action with the adds of
 every outcome OR-ed (a further relaxation, so still admissible), its ``when`` effects as
-zero-cost pieces, plus an artificial zero-cost goal action achieving the fact ``G``. Each
+zero-cost pieces (except an action's only top-level ``when`` when nothing else is added:
+it carries the cost, boxworld's LM-cut 3 -> 20 at p01's initial state), plus an artificial zero-cost goal action achieving the fact ``G``. Each
 round computes h_max under the current costs, picks for every action its precondition
 with the largest h_max (``pcf``), finds the *goal zone* (facts reaching ``G`` through
 zero-cost justification edges) and the cut: the actions whose ``pcf`` is reachable from
@@ -41,6 +42,27 @@ def _pieces(effect: GEffect, pre: frozenset[int], n: int, out: dict) -> None:
             _pieces(sub, pre | condition_facts(cond, n), n, out)
 
 
+def _top_whens(effect: GEffect) -> list:
+    """The ``when`` effects an application may fire that are not nested in another
+    ``when``: the effect's own and those inside its probabilistic blocks."""
+    whens = list(effect.whens)
+    for block in effect.blocks:
+        for _, sub in block.outcomes:
+            whens += _top_whens(sub)
+    return whens
+
+
+def _sole_when(effect: GEffect, pre: frozenset[int], n: int) -> frozenset[int] | None:
+    """The piece precondition of an action's only top-level ``when`` when it adds nothing
+    unconditionally (boxworld: every action is one ``when``), else None. Every
+    application fires that piece at most once and no other charged piece, so it may
+    carry the action's cost."""
+    whens = [c for c, _ in _top_whens(effect) if not c.never]
+    if len(whens) != 1:
+        return None
+    return pre | condition_facts(whens[0], n)
+
+
 def relaxed_actions(model: GroundModel, unit_cost: bool) -> dict[tuple[frozenset[int], float], int]:
     """(precondition literals, cost) -> added literals, for LM-cut.
 
@@ -59,8 +81,9 @@ def relaxed_actions(model: GroundModel, unit_cost: bool) -> dict[tuple[frozenset
         pre = condition_facts(action.precondition, n)
         pieces: dict[frozenset[int], int] = {}
         _pieces(action.effect, pre, n, pieces)
+        charged = pre if pre in pieces else _sole_when(action.effect, pre, n)
         for piece_pre, add in pieces.items():
-            key = (piece_pre, cost if piece_pre == pre else 0.0)
+            key = (piece_pre, cost if piece_pre == charged else 0.0)
             merged[key] = merged.get(key, 0) | add
     for pre, add in relaxed_axioms(model, n).items():  # axioms: zero-cost relaxed actions
         merged[(pre, 0.0)] = merged.get((pre, 0.0), 0) | add

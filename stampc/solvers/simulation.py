@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import random
+import time
 from dataclasses import dataclass
 
 from stampc.diagnostics import Span, StampcError, error
@@ -30,6 +31,8 @@ class SimulationResult:
     goal_rate_ci95: tuple[float, float]
     mean_steps: float
     truncated: int  # runs stopped by max_steps
+    #: the deadline ended the simulation early: ``runs`` counts the completed runs only
+    stopped_at_deadline: bool = False
 
     @property
     def cost_stderr(self) -> float:
@@ -47,8 +50,12 @@ def wilson_interval(successes: int, n: int, z: float = _Z95) -> tuple[float, flo
     return (max(0.0, centre - half), min(1.0, centre + half))
 
 
+class _PastDeadline(Exception):
+    """A run was cut short by the simulation's deadline (it is discarded)."""
+
+
 def _run(model: GroundModel, solution: Solution, rng: random.Random,
-         max_steps: int, memo: dict) -> tuple[float, bool, int, bool]:
+         max_steps: int, memo: dict, deadline: float | None) -> tuple[float, bool, int, bool]:
     cache = solution.search.space.cache
     penalty = solution.search.dead_end_cost
     horizon = solution.horizon
@@ -60,6 +67,8 @@ def _run(model: GroundModel, solution: Solution, rng: random.Random,
             return cost + penalty, False, t, True
         if horizon is not None and t >= horizon:
             return cost + penalty, False, t, False
+        if deadline is not None and time.perf_counter() > deadline:
+            raise _PastDeadline  # off the solved graph every step is a lookahead search
         action = solution.action(state, t)
         if action is None:
             return cost + penalty, False, t, False
@@ -94,8 +103,12 @@ def _explosive(model: GroundModel, action: int, memo: dict) -> bool:
 
 
 def simulate(model: GroundModel, solution: Solution, *, runs: int, seed: int,
-             max_steps: int = 1000) -> SimulationResult:
-    """Simulate ``runs`` executions of ``solution``'s policy from ``solution.init``."""
+             max_steps: int = 1000, deadline: float | None = None) -> SimulationResult:
+    """Simulate ``runs`` executions of ``solution``'s policy from ``solution.init``.
+
+    Past ``deadline`` (a ``time.perf_counter()`` value) the simulation stops and reports
+    the runs completed so far (none: NaN costs): an unfinished policy is completed by
+    one-step lookahead at every state off its graph, which can outlast any budget."""
     if runs <= 0:
         raise StampcError([error("S007", f"number of simulation runs must be positive, got {runs}",
                                  Span.point("<simulation options>"))])
@@ -103,15 +116,27 @@ def simulate(model: GroundModel, solution: Solution, *, runs: int, seed: int,
     costs: list[float] = []
     goals = steps = truncated = 0
     memo: dict = {}
+    stopped = False
     for _ in range(runs):
-        cost, reached, n, cut = _run(model, solution, rng, max_steps, memo)
+        try:
+            cost, reached, n, cut = _run(model, solution, rng, max_steps, memo, deadline)
+        except _PastDeadline:
+            stopped = True
+            break
         costs.append(cost)
         goals += reached
         steps += n
         truncated += cut
-    mean = sum(costs) / runs
-    var = sum((c - mean) ** 2 for c in costs) / (runs - 1) if runs > 1 else 0.0
-    half = _Z95 * math.sqrt(var / runs)
-    return SimulationResult(runs=runs, seed=seed, mean_cost=mean, cost_ci95=(mean - half, mean + half),
-                            goal_rate=goals / runs, goal_rate_ci95=wilson_interval(goals, runs),
-                            mean_steps=steps / runs, truncated=truncated)
+    done = len(costs)
+    if not done:
+        nan = math.nan
+        return SimulationResult(runs=0, seed=seed, mean_cost=nan, cost_ci95=(nan, nan),
+                                goal_rate=nan, goal_rate_ci95=(0.0, 1.0), mean_steps=nan,
+                                truncated=0, stopped_at_deadline=True)
+    mean = sum(costs) / done
+    var = sum((c - mean) ** 2 for c in costs) / (done - 1) if done > 1 else 0.0
+    half = _Z95 * math.sqrt(var / done)
+    return SimulationResult(runs=done, seed=seed, mean_cost=mean, cost_ci95=(mean - half, mean + half),
+                            goal_rate=goals / done, goal_rate_ci95=wilson_interval(goals, done),
+                            mean_steps=steps / done, truncated=truncated,
+                            stopped_at_deadline=stopped)

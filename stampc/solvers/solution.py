@@ -37,6 +37,9 @@ class SolverOptions:
     #: initial state is kept; the policy graph's other states are representatives.
     #: Ignored with ``forbidden`` actions (they need not respect the symmetry).
     symmetry: bool = False
+    #: Clear the facts no reachable action reads from every next state (``relevance.py``;
+    #: same optimal value). Like ``symmetry``, the initial state is kept as it is.
+    relevance: bool = False
 
 
 class PolicyTable(Protocol):

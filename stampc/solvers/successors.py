@@ -20,6 +20,7 @@ from stampc.ir.masks import FactSet, indices
 from stampc.solvers.float_effects import branches, compile_effect, condition_check, sample
 
 if TYPE_CHECKING:
+    from stampc.solvers.relevance import Relevance
     from stampc.solvers.symmetry import ObjectSymmetry
 
 #: A solver transition: (action index, expected cost, probabilities, next states).
@@ -40,14 +41,17 @@ class SuccessorCache:
     ``unit_cost=True`` makes every action cost 1 whatever the model declares (the
     convention of the C++ reference solver and of IPPC-2006 goal-probability domains).
     ``symmetry`` (``symmetry.ObjectSymmetry``) replaces every next state by the
-    representative of its orbit under interchangeable objects (same optimal value).
+    representative of its orbit under interchangeable objects (same optimal value);
+    ``relevance`` (``relevance.Relevance``) first clears its irrelevant facts (same too).
     """
 
     def __init__(self, model: GroundModel, unit_cost: bool = False,
-                 symmetry: ObjectSymmetry | None = None):
+                 symmetry: ObjectSymmetry | None = None,
+                 relevance: Relevance | None = None):
         self.model = model
         self.unit_cost = unit_cost
         self.symmetry = symmetry if symmetry else None
+        self.relevance = relevance
         #: the orbit representative of a state, or None without symmetry
         self.canonical = self.symmetry.canonical if self.symmetry else None
         self._checks = [condition_check(a.precondition) for a in model.actions]
@@ -150,10 +154,9 @@ class SuccessorCache:
             unit = self.unit_cost
             outs = tuple((float(o.probability), o.apply(state), 1.0 if unit else float(o.cost))
                          for o in self.model.actions[action].outcomes(state))
-        if self.symmetry is None:
+        if self.relevance is None and self.symmetry is None:
             return outs
-        rep = self.symmetry.successor
-        return tuple((p, rep(state, n), c) for p, n, c in outs)
+        return tuple(self._reduce(state, outs))
 
     def transitions(self, state: int, *, eliminate_self_loops: bool = True) -> tuple[Transition, ...]:
         """Solver transitions of ``state``: identical next states merged, expected cost.
@@ -188,6 +191,15 @@ class SuccessorCache:
         close = self._close
         if close is not None:
             outs = [(p, close(nxt), c) for p, nxt, c in outs]
+        if self.relevance is None and self.symmetry is None:
+            return outs
+        return self._reduce(state, outs)
+
+    def _reduce(self, state: int, outs: Sequence[Outcome]) -> Sequence[Outcome]:
+        """The next states searched instead of ``state``'s: irrelevant facts cleared,
+        then each one's orbit representative (both keep V*)."""
+        if self.relevance is not None:
+            outs = self.relevance.reduce(state, outs)
         if self.symmetry is None:
             return outs
         rep = self.symmetry.successor
@@ -205,7 +217,9 @@ class SuccessorCache:
         base = 1.0 if self.unit_cost else float(ground.base_cost)
         if self._close is not None:
             nxt = self._close(nxt)
-        return (nxt if self.symmetry is None else self.symmetry.successor(state, nxt)), base + cost
+        if self.relevance is None and self.symmetry is None:
+            return nxt, base + cost
+        return self._reduce(state, [(1.0, nxt, 0.0)])[0][1], base + cost
 
     def _compiled_effect(self, action: int):
         compiled = self._compiled.get(action)

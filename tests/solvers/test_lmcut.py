@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import pytest
-from ssp_builders import random_conditional_model, random_model, reference_values
+from ssp_builders import ModelBuilder, random_conditional_model, random_model, reference_values
 
 from stampc import api
 from stampc.solvers import SolverOptions, solve
@@ -14,7 +15,25 @@ from stampc.solvers.heuristic_choice import make_heuristic
 D = 50.0
 
 
-@pytest.mark.parametrize("make", [random_model, random_conditional_model])
+def _single_when_model(seed: int):
+    """Boxworld's shape: no precondition, the whole effect one ``when`` (with a nested
+    one inside a probabilistic block)."""
+    import random
+    from stampc.ir.grounded import GEffect, GProb
+    rng = random.Random(seed)
+    names = [f"f{i}" for i in range(5)]
+    b = ModelBuilder(names)
+    for k in range(6):
+        nested = (b.cond(rng.sample(names, 1)), b.effect(rng.sample(names, 1), []))
+        block = GProb(((Fraction(3, 4), b.effect(rng.sample(names, 1), [], whens=[nested])),))
+        inner = GEffect(add=b.mask(rng.sample(names, 1)), delete=b.mask(rng.sample(names, 1)),
+                        blocks=(block,))
+        cond = b.cond(rng.sample(names, rng.randint(1, 2)), rng.sample(names, rng.randint(0, 1)))
+        b.action(f"w{k}", effect=GEffect(whens=((cond, inner),)), cost=rng.randint(1, 3))
+    return b.build([n for n in names if rng.random() < 0.4], rng.sample(names, 2))
+
+
+@pytest.mark.parametrize("make", [random_model, random_conditional_model, _single_when_model])
 @pytest.mark.parametrize("unit_cost", [True, False])
 def test_lmcut_never_exceeds_optimal_cost_on_any_state(make, unit_cost):
     stronger = 0
@@ -29,7 +48,9 @@ def test_lmcut_never_exceeds_optimal_cost_on_any_state(make, unit_cost):
             assert h >= hmax(state) - 1e-9
             assert (h == math.inf) == (hmax(state) == math.inf)  # same dead ends
             stronger += h > hmax(state) + 1e-9
-    if make is random_model:  # without ``when`` effects it is strictly more informed
+    # more informed without ``when`` effects, and where an action's sole ``when``
+    # carries its cost
+    if make is not random_conditional_model:
         assert stronger > 0
 
 

@@ -92,6 +92,19 @@ def test_simulation_is_seeded_and_inside_ci():
         simulate(model, sol, runs=0, seed=1)
 
 
+def test_simulation_stops_at_its_deadline():
+    import time
+    b = ModelBuilder(["done"])
+    b.action("try", outcomes=[("1/4", ["done"], [])])
+    model = b.build(init=[], goal=["done"])
+    sol = solve(model, SolverOptions(epsilon=1e-9))
+    past = simulate(model, sol, runs=50, seed=7, deadline=time.perf_counter() - 1.0)
+    assert past.runs == 0 and past.stopped_at_deadline
+    later = simulate(model, sol, runs=50, seed=7, deadline=time.perf_counter() + 60.0)
+    assert later == simulate(model, sol, runs=50, seed=7)  # an unreached deadline changes nothing
+    assert later.runs == 50 and not later.stopped_at_deadline
+
+
 def test_warm_resolve_reuses_values():
     b = ModelBuilder([f"s{i}" for i in range(12)])
     for i in range(11):
