@@ -29,7 +29,6 @@ from __future__ import annotations
 from typing import Sequence
 
 from stampc.ir.grounded import GEffect, GLit, GroundCondition, GroundModel
-from stampc.ir.masks import indices
 from stampc.solvers.heuristics import _relaxed_adds, condition_facts, relaxed_state
 from stampc.solvers.layered import CarriedCounts, released
 from stampc.solvers.successors import Outcome
