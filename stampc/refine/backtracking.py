@@ -137,11 +137,13 @@ class Backtracking:
         if not facts:
             return tuple(learned)
         banned = needing_otherwise(self.model, facts) - self._fact_bans
-        self._fact_bans |= banned
-        self.planner.forbidden.update((ANY_STATE, a) for a in banned)
-        for f, v in facts:
-            self._notes.append(f"{self.model.facts[f]}={'true' if v else 'false'} holds "
-                               f"everywhere: {len(banned)} action(s) banned in every state")
+        if banned:  # a fact learned again (a worker's reply) bans nothing new
+            self._fact_bans |= banned
+            self.planner.forbidden.update((ANY_STATE, a) for a in banned)
+            learned_now = ", ".join(f"{self.model.facts[f]}={'true' if v else 'false'}"
+                                    for f, v in facts)
+            self._notes.append(f"{learned_now} holds everywhere: {len(banned)} action(s) "
+                               "banned in every state")
         return tuple((f, v) for f, v in learned if f not in self._fixed_facts)
 
     def _bans_everywhere(self) -> list[int]:

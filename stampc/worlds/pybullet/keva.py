@@ -55,6 +55,7 @@ PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
 PUT_TRIES, NEAR_REST = 4, 0.5
 HOME_RESOLUTION = 0.05  # rad: the way-home check that orders put configs
 AT_TOL = 0.01  # m: a body within this of a feed or role position is there
+BUFFER = "buffer"  # the domain's hand-over spot (a feed both arms reach)
 FEED_IK_RESTARTS = 20  # the domain's feed_grasp option (the reaches evaluator matches it)
 REACH_ROUNDS = 3  # independent IK rounds before the reaches evaluator says "no" for good
 #: rotations mapping a box onto itself (identity, half turns about its axes)
@@ -122,7 +123,7 @@ def reaches(ctx: Context, a: str, f: str) -> bool:
       "no" only when ``REACH_ROUNDS`` independent IK rounds (the restarts of the domain's
       ``feed_grasp``) all fail (measured: 12 of 12 draws or 0 of 12 per arm and feed).
     The world is left as it was."""
-    if f == "buffer":
+    if f == BUFFER:
         return True
     world = manipulation._world(ctx, a)
     before = world.snapshot()
@@ -148,7 +149,7 @@ def reaches(ctx: Context, a: str, f: str) -> bool:
 def aside_place(ctx: Context, a: str) -> Iterator[tuple[Pose, Config]]:
     """The buffer spot (lying flat, either way round) for the plank in arm ``a``."""
     world = manipulation._world(ctx, a)
-    return _put_at(world, a, feed_pose(world, "buffer"), ("keva-aside", ctx.rng))
+    return _put_at(world, a, feed_pose(world, BUFFER), ("keva-aside", ctx.rng))
 
 
 def table_place(ctx: Context, a: str, r: str, o: str) -> Iterator[tuple[Pose, Config]]:
@@ -379,7 +380,7 @@ def put(ctx: Context, action: ConcreteAction) -> None:
         world.update(retreat=q.pre)
         return
     r = action.args.get("r")
-    target = role_pose(world, str(r)) if r is not None else feed_pose(world, "buffer")
+    target = role_pose(world, str(r)) if r is not None else feed_pose(world, BUFFER)
     settled = target if any(target.multiply(s).distance(p) < 1e-6
                             and target.multiply(s).angle(p) < 1e-6 for s in SYMMETRIES) else p
     world.update(held=None, grip=None, retreat=q.pre, released=k,
