@@ -35,7 +35,8 @@ from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation
 from stampc.worlds.pybullet.kinematics import IkSettings, solve_ik, top_grasp
-from stampc.worlds.pybullet.planning import CHECK_RESOLUTION, counts, interpolate, sweep
+from stampc.worlds.pybullet.planning import (CHECK_RESOLUTION, PlanSettings, counts,
+                                             interpolate, plan_trajectory, sweep)
 from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
                                            as_traj, quat_from_axis_angle)
 from stampc.worlds.pybullet.world import PyBulletWorld
@@ -54,6 +55,7 @@ PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
 #: from the rest config, the others from within NEAR_REST rad of it
 PUT_TRIES, NEAR_REST = 4, 0.5
 HOME_RESOLUTION = 0.05  # rad: the way-home check that orders put configs
+HOME_TRIES = 4  # planner seeds for an arm's way home after a put-down
 AT_TOL = 0.01  # m: a body within this of a feed or role position is there
 BUFFER = "buffer"  # the domain's hand-over spot (a feed both arms reach)
 FEED_IK_RESTARTS = 20  # the domain's feed_grasp option (the reaches evaluator matches it)
@@ -391,26 +393,34 @@ def put(ctx: Context, action: ConcreteAction) -> None:
 def _go_home(ctx: Context, world: PyBulletWorld, a: str) -> None:
     """Back off and return arm ``a`` to its rest config, out of the other arm's way:
     straight in joint space when that is collision-free (deterministic, so branches
-    still merge), else along an OMPL path; if neither is found it stays where it let go.
-    The planner is seeded by the state, not by the caller, and has no run deadline: the
-    arm must end where refinement saw it end when ``stampc execute`` replays the step
-    (with the caller's stream, execution once left an arm in the other's path)."""
+    still merge), else along an OMPL path (``HOME_TRIES`` planner seeds); if none is
+    found it stays where it let go. The seeds come from the state, not the caller, and
+    there is no run deadline: the arm must end where refinement saw it end when
+    ``stampc execute`` replays the step (with the caller's stream, execution once left
+    an arm in the other's path). One seed was not enough: Keva 3π seed 7's left arm
+    stayed amid the structure after 1 of 8 seeds failed there, in the right arm's way
+    to feed 2 in every later state."""
     assert world.model is not None
-    ctx = Context(world=ctx.world, rng=random.Random(f"home:{a}:{world.state.q}"),
-                  options=ctx.options, cache=ctx.cache, values=ctx.values)
     robot, base = manipulation._owner(world)
     state = world.state
     home = tuple(world.model.rest)
     start = state.retreat or state.q
     straight = Traj((state.q, start, home), released=state.released, retreat_end=1,
                     robot=robot, base=base)
-    if manipulation.trajectory_free(ctx, straight):
+    if manipulation.trajectory_free(ctx, straight) or _plans_home(world, a, Config.of(home, pre=home, robot=robot, base=base)):
         world.select(a)
         world.update(q=home, retreat=None, released=None)
-        return
-    goal = Config.of(home, pre=home, robot=robot, base=base)
-    for (t,) in manipulation.motion(ctx, goal):
-        if not t.static_only:
-            world.select(a)
-            world.update(q=home, retreat=None, released=None)
-            return
+
+
+def _plans_home(world: PyBulletWorld, a: str, goal: Config) -> bool:
+    """Whether the planner finds a collision-free way home for arm ``a`` with one of
+    ``HOME_TRIES`` seeds drawn from the state."""
+    q = world.state.q
+    for i in range(HOME_TRIES):
+        rng = random.Random(f"home:{a}:{q}" + (f":{i}" if i else ""))
+        world.select(a)
+        traj = plan_trajectory(world, goal, rng, PlanSettings(straight=False))
+        world.set_arm(q)
+        if traj is not None:
+            return True
+    return False
