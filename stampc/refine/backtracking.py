@@ -19,6 +19,13 @@ if TYPE_CHECKING:
     from stampc.refine.planner import AbstractPlanner
 
 
+#: PRG ancestors of the current node (beyond the root) whose policy graphs are kept for
+#: backtracking; farther ones are released and skipped. Each re-sample gives its PRG node
+#: an unrefined copy of the subtree below the re-drawn node (~10 MB per PRG node on
+#: aircraft), so keeping every one grew aircraft seed 5 past 24 GB.
+KEPT_ANCESTOR_GRAPHS = 32
+
+
 def has_way(graph: PolicyGraph, uid: int) -> bool:
     """Whether the policy below ``uid`` reaches a goal (or a horizon leaf, to be extended)."""
     return any(graph[u].leaf in (GOAL, HORIZON) for u in graph.reachable(uid))
@@ -40,6 +47,8 @@ class Backtracking:
     _fixed_facts: frozenset[int]
     _fact_bans: set[int]
     _notes: list[str]
+    #: PRG nodes whose graphs are kept (``_release_far_graphs``)
+    _holding: set[int]
     #: the engine's best-policy bookkeeping (``Engine._track``)
     _track: "Callable[[int, PolicyGraph], None]"
 
@@ -67,7 +76,7 @@ class Backtracking:
         the step."""
         self._lift_bans(graph.reachable(ancestor.uid))
         new_graph = graph.copy()
-        target = new_graph[ancestor.uid]
+        target = new_graph.own(ancestor.uid)
         new_graph.touch(target.uid)
         target.sigma = None
         target.attempts += 1  # the next concretization draws from fresh generator streams
@@ -98,11 +107,28 @@ class Backtracking:
     def _add_prg_node(self, graph: PolicyGraph, node: int, failed: bool = False,
                       **edge) -> int:
         """A new PRG node holding ``graph``, a child of the current one; the edge records
-        the policy node the step was at and what it did (``edge``)."""
+        the policy node the step was at and what it did (``edge``). A failed one is
+        never worked on: its graph is not kept (the node stays, as a record)."""
         v = self.prg.number_of_nodes()
-        self.prg.add_node(v, graph=graph, parent=self.current, failed=failed)
+        self.prg.add_node(v, graph=None if failed else graph, parent=self.current,
+                          failed=failed)
         self.prg.add_edge(self.current, v, node=node, **edge)
+        if not failed:
+            self._release_far_graphs(v)
         return v
+
+    def _release_far_graphs(self, newest: int) -> None:
+        """Keep the graphs of the root, of ``newest`` and of its nearest
+        ``KEPT_ANCESTOR_GRAPHS`` PRG ancestors only: backtracking can go back to no other
+        PRG node (it climbs from the current one), and it skips released ones."""
+        keep, u = {0, newest}, self.prg.nodes[newest]["parent"]
+        while u is not None and len(keep) < KEPT_ANCESTOR_GRAPHS + 2:
+            keep.add(u)
+            u = self.prg.nodes[u]["parent"]
+        for u in self._holding - keep:
+            self.prg.nodes[u]["graph"] = None
+            self.prg.nodes[u]["released"] = True
+        self._holding = keep
 
     def _lift_bans(self, invalidated) -> None:
         """Bans recorded at nodes whose concrete state a re-sample invalidates came from
@@ -187,8 +213,11 @@ class Backtracking:
         u = self.current
         while u is not None:
             graph = self.prg.nodes[u]["graph"]
+            if graph is None:  # released (too far up to keep)
+                u = self.prg.nodes[u]["parent"]
+                continue
             if uid is not None and uid in graph.nodes:
-                graph[uid].attempts += 1  # next visit draws fresh samples
+                graph.own(uid).attempts += 1  # next visit draws fresh samples
             if self.prg.out_degree(u) < self.breadth and not self.prg.nodes[u].get("exhausted"):
                 self.current = u
                 return "backtrack", f"to PRG node {u}"

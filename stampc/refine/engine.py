@@ -64,6 +64,9 @@ class Engine(Backtracking, Reporting):
         self.breadth = options.breadth
         self.horizon = options.horizon or model.horizon or 8
         self.best_graph: PolicyGraph | None = None
+        #: the graph the last step worked on: the only one whose kept values are kept
+        self._working: PolicyGraph | None = None
+        self._holding: set[int] = {0}
         self.best_prg = 0
         self.best = (-1.0, -1.0)
         self.events: list[ProgressEvent] = []
@@ -165,8 +168,19 @@ class Engine(Backtracking, Reporting):
 
     # ----------------------------------------------------------------- step
     def step(self) -> tuple[str, str]:
-        graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
+        graph = self._current_graph()
         return self._act(graph, self._select(graph))
+
+    def _current_graph(self) -> PolicyGraph:
+        """The current PRG node's graph. The kept values of the graph worked on before
+        are dropped when the engine moves on (a failed replan's, or an abandoned PRG
+        node's): they are rebuilt if it comes back, and a run keeps one set, not one per
+        PRG node it has visited."""
+        graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
+        if self._working is not None and self._working is not graph:
+            self._working.caches.clear()
+        self._working = graph
+        return graph
 
     def _select(self, graph: PolicyGraph):
         """The best uncovered path (selection.py); the bounds are kept on the graph (ĉ
@@ -224,7 +238,7 @@ class Engine(Backtracking, Reporting):
         the solver gave up) by a freshly planned subtree."""
         was_dead_end = leaf.leaf == DEAD_END
         sub = self._graft_growing(graph, leaf.state, leaf.depth, None)
-        adopt(graph, leaf, graph[sub])
+        leaf = adopt(graph, leaf, graph[sub])
         if was_dead_end and leaf.leaf == DEAD_END and not leaf.proven:
             leaf.given_up = True  # replanning found no way out either: stays unrefined
             self._track(self.current, graph)
@@ -272,6 +286,7 @@ class Engine(Backtracking, Reporting):
         Children equal to existing nodes are merged into them — unless that would leave
         ``node`` in a loop with no way out (no leaf reachable): then nothing is committed
         and False is returned."""
+        node = graph.own(node.uid)
         before = list(node.edges)
         graph.touch(node.uid)
         node.sigma = sigma
@@ -300,7 +315,7 @@ class Engine(Backtracking, Reporting):
         it a different one, split off a copy (copy-on-write of shared subtrees)."""
         child = graph[uid]
         if child.concrete is None:
-            child.concrete = Concrete(snap, key)
+            graph.own(uid).concrete = Concrete(snap, key)
             return uid
         clone = replace(child, uid=next(self.uids), edges=list(child.edges),
                         concrete=Concrete(snap, key), sigma=None)
@@ -328,6 +343,7 @@ class Engine(Backtracking, Reporting):
             self._ban_no_progress(graph, path, learned)
             recalled = self._recall(node, learned, values)
             return self._update(graph, node, learned, "update", path, recalled)
+        node = graph.own(node.uid)
         node.attempts += 1
         if self.rng.random() < self.options.explore_probability:
             # explore (Thm. 2's completeness): either revise an earlier choice — re-sample
@@ -396,7 +412,7 @@ class Engine(Backtracking, Reporting):
         masks = (sum(1 << f for f, v in written if v), sum(1 << f for f, v in written if not v))
         new_graph = self._replanned(graph, node.uid, state, forced,
                                     masks if any(masks) else None)
-        new_graph[node.uid].learned = node.learned + written
+        new_graph.own(node.uid).learned = node.learned + written
         # learned facts that leave no way to the goal below this node most likely come
         # from an unlucky sample: backtrack rather than accept a dead end
         failed = not has_way(new_graph, node.uid)
@@ -420,7 +436,7 @@ class Engine(Backtracking, Reporting):
             # (Alg. 1), then fall back to the PRG's iterative broadening
             ancestor = self._resample_target(graph, path) if path else None
             if ancestor is not None:
-                graph[node.uid].attempts += 1  # the failed node draws fresh samples too
+                graph.own(node.uid).attempts += 1  # the failed node draws fresh samples too
                 return self._resample(graph, ancestor, node)
             return self._backtrack(node.uid)
         self.current = v

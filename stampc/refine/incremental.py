@@ -39,14 +39,6 @@ class IncrementalValues:
         self._parents: dict[int, frozenset[int]] = {}
         self._acyclic: bool | None = None  # None: not built yet
 
-    def copy(self) -> "IncrementalValues":
-        """An independent copy (for a copy of the graph): shallow copies of the maps."""
-        clone = IncrementalValues(self.local)
-        clone.values, clone.pending = dict(self.values), set(self.pending)
-        clone._children, clone._parents = dict(self._children), dict(self._parents)
-        clone._acyclic = self._acyclic
-        return clone
-
     def refresh(self, graph: "PolicyGraph") -> bool:
         """Bring the values up to date with ``graph``; False if it has a cycle (then no
         values are kept)."""
@@ -55,6 +47,8 @@ class IncrementalValues:
         if not self._acyclic:
             return False
         nodes = graph.nodes
+        if len(self._children) > 2 * len(nodes) + 1000:
+            self._forget_all_but(nodes.keys())
         changed = (self.pending | (nodes.keys() - self._children.keys())) & nodes.keys()
         self.pending = set()
         if not changed:
@@ -107,6 +101,13 @@ class IncrementalValues:
             self._relink(uid, node)
             self.values[uid] = self.local(node, self.values)
         return True
+
+    def _forget_all_but(self, live) -> None:
+        """Drop what is kept for nodes no longer in the graph: pruned and detached nodes
+        would otherwise pile up over a run (uids are never reused, so nothing is lost)."""
+        self.values = {u: v for u, v in self.values.items() if u in live}
+        self._children = {u: c for u, c in self._children.items() if u in live}
+        self._parents = {u: p for u, p in self._parents.items() if u in live}
 
     def _relink(self, uid: int, node: "Node") -> None:
         """Record ``node``'s current children (and it as their parent)."""

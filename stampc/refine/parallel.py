@@ -110,7 +110,7 @@ class ParallelEngine(Engine):
             if self._still_current(item):
                 return self._apply(item)
             self.stats.discarded += 1
-        graph: PolicyGraph = self.prg.nodes[self.current]["graph"]
+        graph = self._current_graph()
         selected = self._select(graph)
         first = _refinable_prefix(graph, selected)
         if first is None:  # a horizon leaf to extend, or nothing: the serial step

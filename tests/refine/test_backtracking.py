@@ -123,9 +123,9 @@ def test_a_spent_prg_node_backtracks_instead_of_ending_the_run():
         events = engine.run()
         assert next(events).kind == "start"
         spent = engine.prg.nodes[0]["graph"].copy()
-        for node in spent.nodes.values():
-            if node.is_leaf:
-                node.leaf, node.given_up = DEAD_END, True
+        for uid in [u for u, n in spent.nodes.items() if n.is_leaf]:
+            node = spent.own(uid)
+            node.leaf, node.given_up = DEAD_END, True
         engine.prg.add_node(1, graph=spent, parent=0, failed=False)
         engine.prg.add_edge(0, 1, node=spent.root, failed_preconditions=[])
         engine.current = 1

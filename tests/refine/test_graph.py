@@ -157,10 +157,25 @@ def test_select_path_matches_brute_force_ratio_order():
 def test_copy_is_independent():
     g = build({0: ("act", False, [(1.0, 1)]), 1: ("leaf", GOAL)})
     h = g.copy()
-    h[0].sigma = {}
-    h[0].edges.append(edge(0.0, 1))
-    assert g[0].sigma is None and len(g[0].edges) == 1
+    assert h[0] is g[0]  # copy-on-write: the node objects are shared until one changes
+    h.own(0).sigma = {}
+    h.own(0).edges.append(edge(0.0, 1))
+    assert g[0].sigma is None and len(g[0].edges) == 1 and h[0] is not g[0]
+    assert g[1] is h[1]  # the unchanged node stays shared
     assert coverage(g) == 0.0 and coverage(h) == pytest.approx(1.0)
+
+
+def test_a_shared_node_refuses_changes_made_around_own():
+    """A write to a node both graphs hold would change the other graph's policy too."""
+    g = build({0: ("act", False, [(1.0, 1)]), 1: ("leaf", GOAL)})
+    h = g.copy()
+    with pytest.raises(AttributeError, match="shared"):
+        g[0].sigma = {}
+    with pytest.raises(AttributeError):
+        h[0].edges.append(edge(0.0, 1))  # the edges of a shared node are a tuple
+    assert g[0].sigma is None and len(h[0].edges) == 1
+    g.own(0).sigma = {}  # the graph's own copy may change; the other graph's stays
+    assert g[0].sigma == {} and h[0].sigma is None
 
 
 def test_select_path_finds_the_open_leaf_under_exponentially_many_refined_paths():

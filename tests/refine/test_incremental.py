@@ -66,11 +66,11 @@ def mutate(rng: random.Random, graph: PolicyGraph, uids) -> PolicyGraph:
     actions = [n for n in graph.nodes.values() if not n.is_leaf]
     leaves = [n for n in graph.nodes.values() if n.is_leaf]
     if kind == "refine" and actions:
-        node = rng.choice(actions)
+        node = graph.own(rng.choice(actions).uid)
         graph.touch(node.uid)
         node.sigma = {}
     elif kind in ("merge", "split") and actions:
-        node = rng.choice(actions)
+        node = graph.own(rng.choice(actions).uid)
         k = rng.randrange(len(node.edges))
         graph.touch(node.uid)
         if kind == "merge":  # into a node at least as deep: stays acyclic
@@ -96,12 +96,12 @@ def mutate(rng: random.Random, graph: PolicyGraph, uids) -> PolicyGraph:
         graph.nodes[h] = Node(h, h, leaf.depth + 1, leaf=rng.choice([HORIZON, DEAD_END]))
         adopt(graph, leaf, graph.nodes[a])
     elif kind == "give_up" and leaves:
-        leaf = rng.choice(leaves)
+        leaf = graph.own(rng.choice(leaves).uid)
         graph.touch(leaf.uid)
         leaf.given_up = True
     elif kind == "resample" and actions:
         graph = graph.copy()
-        target = graph.nodes[rng.choice(actions).uid]
+        target = graph.own(rng.choice(actions).uid)
         graph.touch(target.uid)
         target.sigma = None
         detach_subtree(graph, target.uid, uids)
