@@ -33,6 +33,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ban-everywhere-after", type=count, default=3, metavar="K",
                         help="ban an action in every state once it found no usable sample in "
                              "K states and never worked (default 3; 0: off; docs/refine.md)")
+    parser.add_argument("--accept-dead-end-after", type=count, default=3, metavar="K",
+                        help="accept a proven dead end that learned facts leave below a node "
+                             "once the same abstract state has met it K times, instead of "
+                             "re-sampling ancestors again (default 3; 0: never; "
+                             "docs/refine.md)")
     parser.add_argument("--heuristic", default="hadd", choices=("hadd", "hff", "hmax", "zero"),
                         help="abstract solver heuristic (default hadd, with an h_FF fallback "
                              "when it finds no way to the goal)")
@@ -76,6 +81,7 @@ def run(args: argparse.Namespace) -> int:
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
         ban_everywhere_after=args.ban_everywhere_after,
+        accept_dead_end_after=args.accept_dead_end_after,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability
                              is None else args.prune_probability))

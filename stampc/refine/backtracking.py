@@ -49,8 +49,28 @@ class Backtracking:
     _notes: list[str]
     #: PRG nodes whose graphs are kept (``_release_far_graphs``)
     _holding: set[int]
+    #: per abstract state (learned facts written): replans that found only proven dead
+    #: ends below it (``_dead_end_for_sure``)
+    _dead_ends_met: dict[int, int]
     #: the engine's best-policy bookkeeping (``Engine._track``)
     _track: "Callable[[int, PolicyGraph], None]"
+
+    def _dead_end_for_sure(self, graph: PolicyGraph, uid: int, state: int) -> bool:
+        """Whether the replanned policy below ``uid`` (no way to the goal) is to be
+        accepted: every leaf is a dead end proven in the abstract model with everything
+        learned, and the abstract state ``state`` has met that
+        ``accept_dead_end_after`` times (earlier, re-sampling ancestors may still change
+        the concrete state that made the facts true)."""
+        after = self.options.accept_dead_end_after
+        if not after or not all(graph[u].proven for u in graph.reachable(uid)
+                                if graph[u].is_leaf):
+            return False
+        met = self._dead_ends_met[state] = self._dead_ends_met.get(state, 0) + 1
+        if met < after:
+            return False
+        self._notes.append(f"a proven dead end accepted (met {met} times in this abstract "
+                           "state)")
+        return True
 
     def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...]) -> Node | None:
         """The refined ancestor (with generated values) to re-sample: among those that

@@ -67,6 +67,7 @@ class Engine(Backtracking, Reporting):
         #: the graph the last step worked on: the only one whose kept values are kept
         self._working: PolicyGraph | None = None
         self._holding: set[int] = {0}
+        self._dead_ends_met: dict[int, int] = {}
         self.best_prg = 0
         self.best = (-1.0, -1.0)
         self.events: list[ProgressEvent] = []
@@ -415,7 +416,8 @@ class Engine(Backtracking, Reporting):
         new_graph.own(node.uid).learned = node.learned + written
         # learned facts that leave no way to the goal below this node most likely come
         # from an unlucky sample: backtrack rather than accept a dead end
-        failed = not has_way(new_graph, node.uid)
+        failed = not has_way(new_graph, node.uid) \
+            and not self._dead_end_for_sure(new_graph, node.uid, state)
         if failed and recalled:  # recalled facts never decide a dead end: without them
             return self._update(graph, node, learned, kind, path)
         if failed and self._bans_everywhere():

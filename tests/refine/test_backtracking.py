@@ -174,3 +174,28 @@ def test_a_merge_that_closes_a_loop_with_no_way_out_is_refused_and_banned():
         assert kind != "refined"
     finally:
         world.close()
+
+
+def test_a_proven_dead_end_is_accepted_once_its_state_has_met_it_k_times():
+    """Learned facts that leave only proven dead ends below a node are first taken for an
+    unlucky sample (ancestors re-sampled); the K-th time the same abstract state meets
+    them the dead end is accepted. An unproven leaf (the solver gave up) never is."""
+    from stampc.refine.graph import DEAD_END, Edge, Node, PolicyGraph
+
+    def graph(proven: bool) -> PolicyGraph:
+        root = Node(1, 7, 0, action=0, edges=[Edge(1.0, 0, None, 2)])
+        return PolicyGraph(1, {1: root, 2: Node(2, 8, 1, leaf=DEAD_END, proven=proven)})
+
+    engine, world = store_engine(accept_dead_end_after=3)
+    try:
+        verdicts = [engine._dead_end_for_sure(graph(True), 1, state=42) for _ in range(4)]
+        assert verdicts == [False, False, True, True]
+        assert not engine._dead_end_for_sure(graph(True), 1, state=43)  # counted per state
+        assert not any(engine._dead_end_for_sure(graph(False), 1, state=44) for _ in range(5))
+    finally:
+        world.close()
+    never, world = store_engine(accept_dead_end_after=0)
+    try:
+        assert not any(never._dead_end_for_sure(graph(True), 1, state=42) for _ in range(5))
+    finally:
+        world.close()
