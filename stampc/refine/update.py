@@ -115,11 +115,10 @@ class Updating:
         new_graph.own(node.uid).learned = node.learned + written
         # learned facts that leave no way to the goal below this node most likely come
         # from an unlucky sample: backtrack rather than accept a dead end
-        failed = not has_way(new_graph, node.uid) \
-            and not self._dead_end_for_sure(new_graph, node.uid, state)
-        if failed and recalled:  # recalled facts never decide a dead end: without them
+        no_way = not has_way(new_graph, node.uid)
+        if no_way and recalled:  # recalled facts never decide a dead end: without them
             return self._update(graph, node, learned, kind, path)
-        if failed and self._bans_everywhere():
+        if no_way and self._bans_everywhere():
             # the choice that led here (which arm took the plank) may lie above: replan
             # there without the banned actions before giving them up
             above = self._replan_above(graph, path) if not learned else None
@@ -127,6 +126,8 @@ class Updating:
                 return above
             self._lift_bans_everywhere()
             return self._update(graph, node, learned, kind, path)
+        # only then, and only after the same state met it a few times, is it a dead end
+        failed = no_way and not self._dead_end_for_sure(new_graph, node.uid, state)
         facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
         others = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in recalled]
         v = self._add_prg_node(new_graph, node.uid, failed, failed_preconditions=facts,
