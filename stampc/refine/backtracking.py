@@ -26,6 +26,11 @@ if TYPE_CHECKING:
 KEPT_ANCESTOR_GRAPHS = 32
 
 
+def fact_labels(model: "GroundModel", facts) -> list[str]:
+    """``fact=true`` / ``fact=false`` for each (fact, value) pair, as events show them."""
+    return [f"{model.facts[f]}={'true' if value else 'false'}" for f, value in facts]
+
+
 def has_way(graph: PolicyGraph, uid: int) -> bool:
     """Whether the policy below ``uid`` reaches a goal (or a horizon leaf, to be extended)."""
     return any(graph[u].leaf in (GOAL, HORIZON) for u in graph.reachable(uid))
@@ -147,7 +152,6 @@ class Backtracking:
             u = self.prg.nodes[u]["parent"]
         for u in self._holding - keep:
             self.prg.nodes[u]["graph"] = None
-            self.prg.nodes[u]["released"] = True
         self._holding = keep
 
     def _lift_bans(self, invalidated) -> None:
@@ -186,8 +190,7 @@ class Backtracking:
         if banned:  # a fact learned again (a worker's reply) bans nothing new
             self._fact_bans |= banned
             self.planner.forbidden.update((ANY_STATE, a) for a in banned)
-            learned_now = ", ".join(f"{self.model.facts[f]}={'true' if v else 'false'}"
-                                    for f, v in facts)
+            learned_now = ", ".join(fact_labels(self.model, facts))
             self._notes.append(f"{learned_now} holds everywhere: {len(banned)} action(s) "
                                "banned in every state")
         return tuple((f, v) for f, v in learned if f not in self._fixed_facts)

@@ -65,7 +65,8 @@ class Reporting:
     def _track(self, prg_node: int, graph: PolicyGraph) -> None:
         score = tracked_coverage_and_goal(graph)
         if score > self.best:
-            self.best, self.best_graph, self.best_prg = score, graph.copy(keep_values=False), prg_node
+            self.best, self.best_prg = score, prg_node
+            self.best_graph = graph.copy(keep_values=False)
             now = self.elapsed()
             for t in THRESHOLDS:
                 if self.crossed[str(t)] is None and score[0] >= t - 1e-9:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import random
 from typing import TYPE_CHECKING, Callable
 
-from stampc.refine.backtracking import has_way
+from stampc.refine.backtracking import fact_labels, has_way
 from stampc.refine.concretize import Failure
 from stampc.refine.graph import Node, PolicyGraph
 
@@ -128,8 +128,7 @@ class Updating:
             return self._update(graph, node, learned, kind, path)
         # only then, and only after the same state met it a few times, is it a dead end
         failed = no_way and not self._dead_end_for_sure(new_graph, node.uid, state)
-        facts = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in learned]
-        others = [f"{self.model.facts[f]}={'true' if val else 'false'}" for f, val in recalled]
+        facts, others = fact_labels(self.model, learned), fact_labels(self.model, recalled)
         v = self._add_prg_node(new_graph, node.uid, failed, failed_preconditions=facts,
                                recalled=others,
                                concretization=sorted(map(str, (node.sigma or {}).keys())))

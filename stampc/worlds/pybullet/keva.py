@@ -407,7 +407,8 @@ def _go_home(ctx: Context, world: PyBulletWorld, a: str) -> None:
     start = state.retreat or state.q
     straight = Traj((state.q, start, home), released=state.released, retreat_end=1,
                     robot=robot, base=base)
-    if manipulation.trajectory_free(ctx, straight) or _plans_home(world, a, Config.of(home, pre=home, robot=robot, base=base)):
+    goal = Config.of(home, pre=home, robot=robot, base=base)
+    if manipulation.trajectory_free(ctx, straight) or _plans_home(world, a, goal):
         world.select(a)
         world.update(q=home, retreat=None, released=None)
 
