@@ -11,6 +11,7 @@ mass is a no-op); the exact enumeration stays the reference for policy trees.
 from __future__ import annotations
 
 from stampc.ir.grounded import GEffect, GroundCondition
+from stampc.ir.masks import as_int
 
 #: (add, delete, cost, whens, blocks); whens are ((pos, neg, condition or None), sub-effect)
 #: with the condition kept when it has a remainder (or sparse fact sets) to evaluate;
@@ -84,12 +85,19 @@ def sample(effect: FloatEffect, state: int, rng) -> tuple[int, int, float]:
     return add, delete, cost
 
 
-def condition_check(cond: GroundCondition) -> tuple[int, int, GroundCondition | None]:
+def condition_check(cond: GroundCondition, dense: bool = False
+                    ) -> tuple[int, int, GroundCondition | None]:
     """(pos, neg, condition to call or None): ``state`` satisfies ``cond`` iff
-    ``state & pos == pos``, ``not state & neg`` and the condition, if any, holds."""
+    ``state & pos == pos``, ``not state & neg`` and the condition, if any, holds.
+    ``dense``: sparse fact sets become ints too (the caller judged their size fine)."""
     pos, neg = cond.pos_facts, cond.neg_facts
-    if pos.__class__ is int and neg.__class__ is int:
-        return pos, neg, cond if cond.rest else None
+    if dense or (pos.__class__ is int and neg.__class__ is int):
+        rest = cond.rest
+        if pos.__class__ is not int or neg.__class__ is not int:
+            # the rest alone: ``holds`` would rebuild the sparse sets' ints on every call
+            rest = GroundCondition(0, 0, rest) if rest else ()
+            return as_int(pos), as_int(neg), rest or None
+        return pos, neg, cond if rest else None
     return 0, 0, cond  # sparse: an int per condition would be as large as the model
 
 

@@ -29,12 +29,13 @@ from __future__ import annotations
 import heapq
 import math
 from fractions import Fraction
-from typing import Callable, Iterator
+from typing import Callable
 
 from stampc.ir.grounded import GAnd, GEffect, GFormula, GLit, GroundCondition, GroundModel
 from stampc.ir.masks import indices
 from stampc.solvers.layered import LayeredHmax
 from stampc.solvers.names import ADMISSIBLE, HEURISTICS  # noqa: F401  (re-exported)
+from stampc.solvers.open_view import OpenView
 from stampc.solvers.successors import iter_bits
 
 Heuristic = Callable[[int], float]
@@ -148,11 +149,14 @@ class RelaxedModel:
         self.useful = self.goal_mask
         for m in self.pre_masks:
             self.useful |= m
-        #: open-precondition counts of the initial state: other states' counts are
-        #: derived from them through the facts they differ in (see _open_counts)
+        #: literal -> 1 if useful (an index beats a shift of a thousands-of-bits mask)
+        self.useful_flags = bytearray(2 * n)
+        for g in iter_bits(self.useful):
+            self.useful_flags[g] = 1
+        #: open-precondition counts of the initial state (the first view, open_view.py)
         self.ref_state = model.init & self.full
         self.ref_counts = _count_lacking(self, relaxed_state(self.ref_state, n, self.full))
-        #: the useful literals the initial state lacks, derived the same way (_open_literals)
+        #: the useful literals the initial state lacks
         self.ref_open = frozenset(iter_bits(self.useful & ~relaxed_state(self.ref_state, n,
                                                                          self.full)))
         #: useful literal -> the relaxed actions adding it, in index order
@@ -163,6 +167,8 @@ class RelaxedModel:
         #: h_max by layers when every relaxed action costs the same positive amount
         self.layered = (LayeredHmax(self, self.uniform_cost)
                         if self.uniform_cost is not None and self.uniform_cost > 0 else None)
+        #: the open literals, counts and adds of the state evaluated last (open_view.py)
+        self.view = OpenView(self)
 
 
 def _count_lacking(rm: RelaxedModel, literals: int) -> list[int]:
@@ -171,73 +177,15 @@ def _count_lacking(rm: RelaxedModel, literals: int) -> list[int]:
     return [(m & lacking).bit_count() for m in rm.pre_masks]
 
 
-def _open_counts(rm: RelaxedModel, state: int) -> list[int]:
-    """Per relaxed action, how many of its precondition literals the fact set ``state``
-    lacks (its relaxed literals: the facts, and ``n + i`` for each false fact ``i``).
-
-    Counting up front means the searches below only ever touch literals that are *not*
-    already true — most literals of a state (e.g. the many ``not collision(x, t)``) are.
-    The counts are the initial state's, corrected for the few facts ``state`` differs
-    in: a search's states lie near it, and a full recount (one big-int AND per relaxed
-    action, over thousands of literals) was a third of every evaluation."""
-    counts = list(rm.ref_counts)
-    users = rm.users
-    for on, off in _flips(rm, state):
-        for i in users[on]:
-            counts[i] -= 1
-        for i in users[off]:
-            counts[i] += 1
-    return counts
-
-
-def _flips(rm: RelaxedModel, state: int) -> Iterator[tuple[int, int]]:
-    """(literal now true, literal now false) for each fact ``state`` differs in from the
-    initial state: a fact now true makes its positive literal true, its negative false."""
-    n = rm.n
-    diff = (state ^ rm.ref_state) & rm.full
-    while diff:
-        low = diff & -diff
-        diff ^= low
-        f = low.bit_length() - 1
-        yield (f, n + f) if state & low else (n + f, f)
-
-
-def _open_literals(rm: RelaxedModel, state: int) -> set[int]:
-    """The useful literals ``state`` lacks: the initial state's, corrected
-    for the facts ``state`` differs in (as in _open_counts; a walk over every set bit of
-    a mask thousands of literals wide costs a big-int operation per bit)."""
-    open_set = set(rm.ref_open)
-    useful = rm.useful
-    for on, off in _flips(rm, state):
-        open_set.discard(on)
-        if (useful >> off) & 1:
-            open_set.add(off)
-    return open_set
-
-
-def _open_adds(rm: RelaxedModel, open_literals: set[int]) -> dict[int, list[int]]:
-    """Relaxed action -> the open literals it adds, ascending."""
-    out: dict[int, list[int]] = {}
-    adders = rm.adders
-    for g in sorted(open_literals):
-        for i in adders.get(g, ()):
-            got = out.get(i)
-            if got is None:
-                out[i] = [g]
-            else:
-                got.append(g)
-    return out
-
-
 def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     """Generalised Dijkstra over the literals not yet true; stops once every goal literal
     is settled. ``mode``: "max" (h_max), "add" (h_add) or "ff" (relaxed plan cost).
 
     Only *open* literals (useful ones — in some precondition or the goal — that the state
-    lacks) are ever touched: each action's open adds are gathered from the open literals'
-    adders (_open_adds) rather than by masking its adds, since a 60-can table has ~570
-    adds per relaxed action over 72,000 literals, nearly all already true, and walking
-    the bits of a masked big int costs a 9 kB operation per bit."""
+    lacks) are ever touched: each action's open adds come from the open literals' adders
+    (``rm.view``, open_view.py) rather than from masking its adds, since a 60-can table
+    has ~570 adds per relaxed action over 72,000 literals, nearly all already true, and
+    walking the bits of a masked big int costs a 9 kB operation per bit."""
     if rm.goal_never:
         return math.inf
     if mode == "max" and rm.layered is not None:
@@ -245,12 +193,14 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     # h_FF takes its supporters from the h_max propagation (as FF's planning graph does):
     # a max costs O(1) per relaxed action where a sum walks every precondition
     additive = mode == "add"
-    open_literals = _open_literals(rm, state)
+    view = rm.view
+    view.move(state)
+    open_literals = view.open
     goal = [g for g in rm.goal_facts if g in open_literals]
     if not goal:
         return 0.0
-    counts = _open_counts(rm, state)
-    adds = _open_adds(rm, open_literals)
+    counts = list(view.counts)
+    adds = view.adds
     costs, users = rm.costs, rm.users
     settled = [0.0] * len(costs)  # h_add: summed costs of each action's settled preconditions
     best: dict[int, float] = {}

@@ -19,6 +19,9 @@ from stampc.ir.grounded import GroundAction, GroundModel
 from stampc.ir.masks import FactSet, indices
 from stampc.solvers.float_effects import branches, compile_effect, condition_check, sample
 
+#: the most memory the int precondition masks of ``SuccessorCache`` may take
+DENSE_CHECK_BYTES = 64 << 20
+
 if TYPE_CHECKING:
     from stampc.solvers.relevance import Relevance
     from stampc.solvers.symmetry import ObjectSymmetry
@@ -54,7 +57,11 @@ class SuccessorCache:
         self.relevance = relevance
         #: the orbit representative of a state, or None without symmetry
         self.canonical = self.symmetry.canonical if self.symmetry else None
-        self._checks = [condition_check(a.precondition) for a in model.actions]
+        # Preconditions as int masks even when their fact sets are sparse, unless those
+        # ints would be large in total: a cluttered-25 model (5,463 facts, 220 actions)
+        # rebuilt 178 ints per applicability test (132 -> 68 us per test with the ints).
+        dense = 2 * len(model.actions) * (len(model.facts) // 8 + 1) <= DENSE_CHECK_BYTES
+        self._checks = [condition_check(a.precondition, dense) for a in model.actions]
         # Float outcome lists of state-independent actions, built on first use: models such
         # as rectangle-tireworld ground 10^5 actions of which a search touches few.
         self._static: list = [_UNSET] * len(model.actions)

@@ -108,3 +108,62 @@ def test_goal_disjunction_is_relaxed_admissibly():
         rest=(GAnd((GOr((GLit(0), GLit(1))),)),)))
     # The disjunction is dropped: 0 is a lower bound of the true cost 4.
     assert make_heuristic("hmax", model, False)(0) == 0
+
+
+@pytest.mark.parametrize("dense_bytes", [0, 64 << 20])
+def test_applicable_matches_brute_force_with_sparse_preconditions(monkeypatch, dense_bytes):
+    """Past DENSE_BITS facts, fact sets are sparse; the cache turns them into ints when
+    they fit (``DENSE_CHECK_BYTES``) and must still agree with the conditions themselves."""
+    from pathlib import Path
+
+    from stampc import api
+    from stampc.ir.masks import DENSE_BITS
+    from stampc.solvers import successors
+
+    monkeypatch.setattr(successors, "DENSE_CHECK_BYTES", dense_bytes)
+    root = Path(__file__).resolve().parents[2] / "examples" / "cluttered_table"
+    from examples.cluttered_table.scene import problem_text
+    problem = Path(__file__).parent / "_cluttered25.stamp"
+    try:
+        problem.write_text(problem_text(25, 1, "mid", "pybullet"))
+        model = api.ground(api.load_model([str(root / "domain.stamp"), str(problem)]))
+    finally:
+        problem.unlink(missing_ok=True)
+    assert len(model.facts) > DENSE_BITS
+    assert any(a.precondition.pos_facts.__class__ is not int for a in model.actions)
+    cache = SuccessorCache(model)
+    rng = random.Random(0)
+    state, seen = model.init, 0
+    for _ in range(60):  # a random walk keeps the states plausible (and mostly applicable)
+        expected = tuple(a.index for a in model.actions if a.precondition.holds(state))
+        assert cache.applicable(state) == expected
+        seen += len(expected)
+        if not expected:
+            break
+        action = model.actions[rng.choice(expected)]
+        outcomes = action.outcomes(state)
+        state = rng.choice(outcomes).apply(state)
+        # the learned facts refinement writes: an obstruction of a random trajectory
+        if rng.random() < 0.3:
+            state |= 1 << rng.randrange(len(model.facts))
+    assert seen > 60
+
+
+@pytest.mark.parametrize("dense", [False, True])
+def test_condition_checks_of_sparse_conditions_with_a_remainder(dense):
+    from stampc.ir.masks import DENSE_BITS, Sparse
+    from stampc.solvers.float_effects import _holds, condition_check
+
+    n = DENSE_BITS + 200
+    rng = random.Random(1)
+    for _ in range(40):
+        pos = sorted(rng.sample(range(n), 3))
+        neg = sorted(set(rng.sample(range(n), 2)) - set(pos))
+        rest = (GOr((GLit(rng.randrange(n), True), GLit(rng.randrange(n), False))),)
+        cond = GroundCondition(Sparse(pos) if pos[-1] >= DENSE_BITS else sum(1 << f for f in pos),
+                               Sparse(neg), rest)
+        check = condition_check(cond, dense)
+        for _ in range(50):
+            state = sum(1 << f for f in pos if rng.random() < 0.9) | \
+                sum(1 << f for f in neg if rng.random() < 0.1) | rng.getrandbits(n)
+            assert _holds(check, state) == cond.holds(state)
