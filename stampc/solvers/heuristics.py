@@ -216,32 +216,30 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     heapq.heapify(heap)
     goal_set = set(goal)
     remaining = len(goal)
-    done: set[int] = set()
     total = 0.0
-    heappop, heappush = heapq.heappop, heapq.heappush
+    heappop, heappush, inf = heapq.heappop, heapq.heappush, math.inf
     while heap:
         c, f = heappop(heap)
-        if f in done:
-            continue
-        done.add(f)
+        if c > best[f]:
+            continue  # a stale entry: f was reached more cheaply (and settled then)
+        best[f] = -1.0  # settled: no later (non-negative) cost is below it
         if f in goal_set:
             total = total + c if additive else c
             remaining -= 1
             if remaining == 0:
                 return _relaxed_plan_cost(rm, goal, supporter) if mode == "ff" else total
         for i in users[f]:
-            counts[i] -= 1
+            left = counts[i] - 1
+            counts[i] = left
             if additive:  # only open preconditions cost anything; settled costs are final
                 settled[i] += c
-            if counts[i]:
+            if left:
                 continue
-            if additive:
-                base = costs[i] + settled[i]
-            else:
-                base = c + costs[i]  # settled in non-decreasing order: c is the max
+            base = costs[i] + settled[i] if additive else c + costs[i]
             for g in adds.get(i, ()):
-                if base < best.get(g, math.inf):
-                    best[g], supporter[g] = base, i
+                if base < best.get(g, inf):
+                    best[g] = base
+                    supporter[g] = i
                     heappush(heap, (base, g))
     return math.inf
 
