@@ -68,6 +68,20 @@ def released(literals: int, users: Sequence[list[int]], counts: list[int]) -> li
     return out
 
 
+def literal_flips(old: int, new: int, full: int, n: int) -> list[tuple[int, int]]:
+    """(literal gained, literal lost) for each fact the states ``old`` and ``new`` differ
+    in (literal ``n + i`` is fact ``i`` false): a fact now true gains its positive
+    literal and loses its negative one, and vice versa."""
+    out = []
+    diff = (old ^ new) & full
+    while diff:
+        low = diff & -diff
+        diff ^= low
+        f = low.bit_length() - 1
+        out.append((f, n + f) if new & low else (n + f, f))
+    return out
+
+
 class CarriedCounts:
     """Per relaxed action, how many precondition literals a state lacks, and the actions
     at 0: the previous state's counters corrected for the facts the two differ in
@@ -80,15 +94,10 @@ class CarriedCounts:
         self.ref_state, self.ref_counts, self.ref_zero = state, list(counts), set(zero)
 
     def __call__(self, state: int) -> tuple[list[int], set[int]]:
-        n, users = self.n, self.users
+        users = self.users
         counts = list(self.ref_counts)
         zero = set(self.ref_zero)
-        diff = (state ^ self.ref_state) & self.full
-        while diff:
-            low = diff & -diff
-            diff ^= low
-            f = low.bit_length() - 1
-            on, off = (f, n + f) if state & low else (n + f, f)
+        for on, off in literal_flips(self.ref_state, state, self.full, self.n):
             for i in users[off]:  # a literal lost: its users miss one more
                 if not counts[i]:
                     zero.discard(i)

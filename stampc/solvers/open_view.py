@@ -16,6 +16,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from stampc.solvers.layered import literal_flips
+
 if TYPE_CHECKING:
     from stampc.solvers.heuristics import RelaxedModel
 
@@ -42,14 +44,9 @@ class OpenView:
         adds for each fact ``state`` differs in from the current one (a fact now true
         makes its positive literal true and its negative one false, and vice versa)."""
         rm = self.rm
-        n, users, useful = rm.n, rm.users, rm.useful_flags
+        users, useful = rm.users, rm.useful_flags
         counts, open_set = self.counts, self.open
-        diff = (state ^ self.state) & rm.full
-        while diff:
-            low = diff & -diff
-            diff ^= low
-            f = low.bit_length() - 1
-            on, off = (f, n + f) if state & low else (n + f, f)
+        for on, off in literal_flips(self.state, state, rm.full, rm.n):
             for i in users[on]:
                 counts[i] -= 1
             for i in users[off]:

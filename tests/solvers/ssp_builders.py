@@ -200,3 +200,41 @@ def reference_finite(model: GroundModel, dead_end_cost: float, horizon: int,
         return memo[key]
 
     return value(model.init, 0)
+
+
+def ippc_model(root, instance: str) -> GroundModel:
+    """The grounded IPPC ``instance`` under the benchmark folder ``root``; skips the test
+    when that file is not there."""
+    import pytest
+
+    from stampc import api
+
+    path = root / instance
+    if not path.is_file():
+        pytest.skip(f"{instance} not found")
+    return api.ground(api.load_model([str(path)]))
+
+
+def breadth_first_states(model: GroundModel, limit: int) -> list[int]:
+    """Up to ``limit`` states reachable from the initial state, breadth-first."""
+    from stampc.solvers.successors import SuccessorCache
+
+    cache = SuccessorCache(model, True)
+    seen, order = {model.init}, [model.init]
+    for s in order:
+        if len(order) >= limit:
+            break
+        for _, _, _, nexts in cache.transitions(s):
+            for n in nexts:
+                if n not in seen:
+                    seen.add(n)
+                    order.append(n)
+    return order[:limit]
+
+
+def shuffled_random_instance(seed: int) -> tuple[GroundModel, list[int]]:
+    """``random_model(seed)`` and its reachable states in a seeded random order."""
+    model = random_model(seed)
+    states = reachable_states(model)
+    random.Random(seed).shuffle(states)
+    return model, states

@@ -9,9 +9,9 @@ import random
 
 import pytest
 from hypothesis import given, settings, strategies as st
-from ssp_builders import random_model, reachable_states
+from ssp_builders import (breadth_first_states, ippc_model, random_model,
+                          reachable_states, shuffled_random_instance)
 
-from stampc import api
 from stampc.solvers.heuristics import RelaxedModel, _relaxed_cost, relaxed_state
 from stampc.solvers.successors import iter_bits
 
@@ -44,9 +44,7 @@ def _view_from_scratch(rm: RelaxedModel, state: int):
 @settings(max_examples=40, deadline=None)
 @given(seed=st.integers(min_value=0, max_value=10**6))
 def test_carried_values_equal_fresh_ones_on_random_models(seed):
-    model = random_model(seed)
-    states = reachable_states(model)
-    random.Random(seed).shuffle(states)
+    model, states = shuffled_random_instance(seed)
     order = states + states[::-1]
     for mode in MODES:
         assert _carried(model, order, mode) == [_fresh(model, s, mode) for s in order]
@@ -71,12 +69,8 @@ def test_the_carried_view_equals_one_built_from_scratch(seed):
                                       "ippc2006-elevators/p01.pddl",
                                       "ippc2006-schedule/p02.pddl"])
 def test_carried_values_equal_fresh_ones_on_ippc_instances(ppddl_benchmarks, instance):
-    path = ppddl_benchmarks / instance
-    if not path.is_file():
-        pytest.skip(f"{instance} not found")
-    model = api.ground(api.load_model([str(path)]))
-    from test_layered_hmax import _reachable
-    states = _reachable(model, 300)
+    model = ippc_model(ppddl_benchmarks, instance)
+    states = breadth_first_states(model, 300)
     random.Random(0).shuffle(states)
     for mode in MODES:
         assert _carried(model, states, mode) == [_fresh(model, s, mode) for s in states]
