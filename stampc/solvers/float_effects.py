@@ -91,6 +91,8 @@ def condition_check(cond: GroundCondition, dense: bool = False
     ``state & pos == pos``, ``not state & neg`` and the condition, if any, holds.
     ``dense``: sparse fact sets become ints too (the caller judged their size fine)."""
     pos, neg = cond.pos_facts, cond.neg_facts
+    if cond.never:
+        return 0, 0, cond  # its ``holds`` says no
     if dense or (pos.__class__ is int and neg.__class__ is int):
         rest = cond.rest
         if pos.__class__ is not int or neg.__class__ is not int:

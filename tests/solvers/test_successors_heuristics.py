@@ -167,3 +167,11 @@ def test_condition_checks_of_sparse_conditions_with_a_remainder(dense):
             state = sum(1 << f for f in pos if rng.random() < 0.9) | \
                 sum(1 << f for f in neg if rng.random() < 0.1) | rng.getrandbits(n)
             assert _holds(check, state) == cond.holds(state)
+
+
+@pytest.mark.parametrize("dense", [False, True])
+def test_a_never_condition_check_never_holds(dense):
+    from stampc.solvers.float_effects import _holds, condition_check
+
+    check = condition_check(GroundCondition(never=True), dense)
+    assert not any(_holds(check, s) for s in (0, 1, 0b1011, (1 << 5000) - 1))
