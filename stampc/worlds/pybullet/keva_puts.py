@@ -39,7 +39,7 @@ UPRIGHT_TURNS = tuple(Pose((0.0, 0.0, 0.0), quat_from_axis_angle((1.0, 0.0, 0.0)
 
 
 def put_configs(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random.Random],
-            turns: tuple[Pose, ...] = ()) -> Iterator[tuple[Pose, Config]]:
+                turns: tuple[Pose, ...] = ()) -> Iterator[tuple[Pose, Config]]:
     """Configs of arm ``a`` putting its plank at ``target`` up to the box's symmetry
     (and the extra ``turns``), each touching no plank at the put or along its vertical
     approach. IK first draws from an RNG seeded by ``seeds[0]`` and the arm — same
