@@ -28,7 +28,10 @@ class OpenView:
     ``open`` and ``adds`` are read-only to callers."""
 
     def __init__(self, rm: "RelaxedModel"):
-        self.rm = rm
+        # the model's tables, not the model: the model holds this view, and a cycle would
+        # keep a dropped model (and its thousands-of-bits masks) until a full collection
+        self.n, self.full = rm.n, rm.full
+        self.users, self.adders, self.useful = rm.users, rm.adders, rm.useful_flags
         self.state = rm.ref_state
         #: per relaxed action, how many of its precondition literals the state lacks
         self.counts: list[int] = list(rm.ref_counts)
@@ -43,17 +46,16 @@ class OpenView:
         """Make this the view of ``state``: correct the counts, open literals and open
         adds for each fact ``state`` differs in from the current one (a fact now true
         makes its positive literal true and its negative one false, and vice versa)."""
-        rm = self.rm
-        users, useful = rm.users, rm.useful_flags
+        users, useful, adders = self.users, self.useful, self.adders
         counts, open_set = self.counts, self.open
-        for on, off in literal_flips(self.state, state, rm.full, rm.n):
+        for on, off in literal_flips(self.state, state, self.full, self.n):
             for i in users[on]:
                 counts[i] -= 1
             for i in users[off]:
                 counts[i] += 1
             if on in open_set:
                 open_set.discard(on)
-                for i in rm.adders.get(on, ()):
+                for i in adders.get(on, ()):
                     self.adds[i].discard(on)
             if useful[off]:
                 open_set.add(off)
@@ -62,7 +64,7 @@ class OpenView:
 
     def _opened(self, literal: int) -> None:
         adds = self.adds
-        for i in self.rm.adders.get(literal, ()):
+        for i in self.adders.get(literal, ()):
             got = adds.get(i)
             if got is None:
                 adds[i] = {literal}
