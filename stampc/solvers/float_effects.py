@@ -93,14 +93,12 @@ def condition_check(cond: GroundCondition, dense: bool = False
     pos, neg = cond.pos_facts, cond.neg_facts
     if cond.never:
         return 0, 0, cond  # its ``holds`` says no
-    if dense or (pos.__class__ is int and neg.__class__ is int):
-        rest = cond.rest
-        if pos.__class__ is not int or neg.__class__ is not int:
-            # the rest alone: ``holds`` would rebuild the sparse sets' ints on every call
-            rest = GroundCondition(0, 0, rest) if rest else ()
-            return as_int(pos), as_int(neg), rest or None
-        return pos, neg, cond if rest else None
-    return 0, 0, cond  # sparse: an int per condition would be as large as the model
+    if pos.__class__ is int and neg.__class__ is int:
+        return pos, neg, cond if cond.rest else None
+    if not dense:
+        return 0, 0, cond  # sparse: an int per condition would be as large as the model
+    # the remainder alone: ``holds`` would rebuild the sparse sets' ints on every call
+    return as_int(pos), as_int(neg), GroundCondition(0, 0, cond.rest) if cond.rest else None
 
 
 def _holds(check: tuple[int, int, GroundCondition | None], state: int) -> bool:

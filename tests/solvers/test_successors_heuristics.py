@@ -111,7 +111,8 @@ def test_goal_disjunction_is_relaxed_admissibly():
 
 
 @pytest.mark.parametrize("dense_bytes", [0, 64 << 20])
-def test_applicable_matches_brute_force_with_sparse_preconditions(monkeypatch, dense_bytes):
+def test_applicable_matches_brute_force_with_sparse_preconditions(monkeypatch, tmp_path,
+                                                                  dense_bytes):
     """Past DENSE_BITS facts, fact sets are sparse; the cache turns them into ints when
     they fit (``DENSE_CHECK_BYTES``) and must still agree with the conditions themselves."""
     from pathlib import Path
@@ -123,12 +124,9 @@ def test_applicable_matches_brute_force_with_sparse_preconditions(monkeypatch, d
     monkeypatch.setattr(successors, "DENSE_CHECK_BYTES", dense_bytes)
     root = Path(__file__).resolve().parents[2] / "examples" / "cluttered_table"
     from examples.cluttered_table.scene import problem_text
-    problem = Path(__file__).parent / "_cluttered25.stamp"
-    try:
-        problem.write_text(problem_text(25, 1, "mid", "pybullet"))
-        model = api.ground(api.load_model([str(root / "domain.stamp"), str(problem)]))
-    finally:
-        problem.unlink(missing_ok=True)
+    problem = tmp_path / "cluttered25.stamp"
+    problem.write_text(problem_text(25, 1, "mid", "pybullet"))
+    model = api.ground(api.load_model([str(root / "domain.stamp"), str(problem)]))
     assert len(model.facts) > DENSE_BITS
     assert any(a.precondition.pos_facts.__class__ is not int for a in model.actions)
     cache = SuccessorCache(model)
