@@ -47,6 +47,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="abstract solves leave outcomes reached with probability below P "
                              "unplanned until refinement gets there (default 0: plan every "
                              "outcome at once; docs/refine.md)")
+    parser.add_argument("--solve-work-limit", type=positive_int, default=None, metavar="N",
+                        help="cap on one abstract solve's work, in units of about one "
+                             "heuristic evaluation (default: about 10 s of a 25-can "
+                             "re-solve); unlike a time cap, a work cap keeps runs whose "
+                             "solves hit it reproducible (docs/refine.md, Determinism)")
     parser.add_argument("--workers", type=positive_int, default=1, metavar="N",
                         help="concretize up to N independent nodes at a time: this "
                              "process and N-1 worker processes (default 1: no worker); "
@@ -68,7 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from stampc import api
     from stampc.refine import RefineOptions
-    from stampc.refine.options import PRUNE_PROBABILITY
+    from stampc.refine.options import PRUNE_PROBABILITY, SOLVE_WORK_LIMIT
     from stampc.solvers import SolverOptions
 
     try:
@@ -82,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
         explore_probability=args.explore_probability, horizon=args.horizon,
         ban_everywhere_after=args.ban_everywhere_after,
         accept_dead_end_after=args.accept_dead_end_after,
+        solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability
                              is None else args.prune_probability))

@@ -57,6 +57,7 @@ class Engine(Updating, Backtracking, Reporting):
         self.planner.timeout_prune = options.timeout_prune_probability
         self.planner.warm_state_limit = options.warm_state_limit
         self.planner.timeout_plan = options.timeout_plan
+        self.planner.solve_work_limit = options.solve_work_limit
         self.concretizer = Concretizer(model, bindings, world, options.seed)
         self.memory = FactMemory(self.concretizer)
         self.initial_values = dict(world.initial_values())
@@ -96,6 +97,7 @@ class Engine(Updating, Backtracking, Reporting):
             self.planner.deadline = self._start + self.options.time_limit
             self.concretizer.deadline = self.planner.deadline
         self.planner.solve_time_limit = self.options.solve_time_limit
+        self.planner.solve_work_limit = self.options.solve_work_limit
         self._stopped = None
         initial = self.world.snapshot()
         try:

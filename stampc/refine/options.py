@@ -13,6 +13,9 @@ from stampc.solvers import SolverOptions
 #: Off by default: it makes each solve cheaper but the run slower (cluttered-20 seed 3:
 #: coverage 0.72 with 0.05 against 0.97 without at 300 s; docs/refine.md).
 PRUNE_PROBABILITY = 0.0
+#: The abstract solver's default work cap per solve (``Search.work`` units): about 10 s
+#: of CPU of cluttered-table re-solves on the benchmark machine (stampc/solvers/core.py)
+SOLVE_WORK_LIMIT = 100_000
 #: ... except in the continuation of a solve that hit its cap (cluttered-40 seed 0 at
 #: 180 s: coverage 0.47 with partial solves, 0.0 with full ones that never fit)
 TIMEOUT_PRUNE_PROBABILITY = 0.05
@@ -55,9 +58,15 @@ class RefineOptions:
     breadth: int = 5
     breadth_step: int = 5
     max_iterations: int = 100_000
-    #: cap on one abstract (re)solve, in seconds; a solve that hits it returns its best
-    #: partial policy (a replan without a way to the goal then backtracks)
-    solve_time_limit: float = 10.0
+    #: cap on one abstract (re)solve's work (``Search.work``, about one unit per
+    #: heuristic evaluation; None: none); a solve that hits it returns its best partial
+    #: policy (a replan without a way to the goal then backtracks). A work cap stops a
+    #: solve at the same point on any machine and under any load, so runs whose solves
+    #: hit it stay reproducible for a seed (docs/refine.md, "Determinism").
+    solve_work_limit: int | None = SOLVE_WORK_LIMIT
+    #: cap on one abstract (re)solve, in seconds: a guard for machines much slower than
+    #: the work cap assumes (where it binds, the run depends on the machine's speed)
+    solve_time_limit: float = 30.0
     #: a capped solve is continued this many times, doubling its cap, before its
     #: partial policy is used (a timeout is not a verdict on the horizon)
     solve_retries: int = 2
@@ -117,6 +126,12 @@ def check_refine_options(options: RefineOptions) -> None:
     if options.ban_everywhere_after < 0:
         problems.append(error("R003", "ban_everywhere_after must be 0 (off) or positive, "
                               f"got {options.ban_everywhere_after}", span))
+    if options.solve_work_limit is not None and options.solve_work_limit < 1:
+        problems.append(error("R003", "solve_work_limit must be positive or None, got "
+                              f"{options.solve_work_limit}", span))
+    if not options.solve_time_limit > 0:
+        problems.append(error("R003", "solve_time_limit must be positive, got "
+                              f"{options.solve_time_limit}", span))
     if options.warm_state_limit is not None and options.warm_state_limit < 1:
         problems.append(error("R003", "warm_state_limit must be positive or None, got "
                               f"{options.warm_state_limit}", span))
@@ -164,7 +179,8 @@ class RefineResult:
     goal_mass: float = 0.0
     dead_end_mass: float = 0.0
     unrefined_mass: float = 1.0
-    #: abstract solves that hit their time cap; generator values re-drawn by backtracking
+    #: abstract solves that hit their cap (work or time); generator values re-drawn by
+    #: backtracking
     solver_timeouts: int = 0
     resamples: int = 0
     #: facts learned elsewhere and written back at UpdateAbstraction (recall.py)

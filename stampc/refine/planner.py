@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import random
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Iterator
 
 from stampc.ir.grounded import GroundModel
@@ -20,6 +20,22 @@ from stampc.refine.deadends import DeadEndProver
 from stampc.solvers import Solution, SolverOptions, policy_tree, solve
 from stampc.solvers.determinized import with_greedy_plan
 from stampc.solvers.space import is_forbidden
+
+
+@dataclass(frozen=True)
+class _Cap:
+    """A single solve's budget: work units (``Search.work``) and seconds."""
+    work: int | None
+    seconds: float | None
+
+    def doubled(self) -> _Cap:
+        return _Cap(None if self.work is None else 2 * self.work,
+                    None if self.seconds is None else 2 * self.seconds)
+
+    def __str__(self) -> str:
+        parts = ([f"{self.work:,} work units"] if self.work is not None else []) + \
+            ([f"{self.seconds:g} s"] if self.seconds is not None else [])
+        return ", ".join(parts) or "no cap"
 
 
 class AbstractPlanner:
@@ -34,7 +50,10 @@ class AbstractPlanner:
         self.chain = (options,) + ((fallback,) if fallback is not None else ())
         #: absolute time.perf_counter() deadline for solver calls (the engine's time limit)
         self.deadline: float | None = None
-        #: cap on a single solve, in seconds
+        #: cap on a single solve's work (``Search.work``; deterministic), and on its
+        #: time in seconds (a guard for slow machines: where it stops a solve, the run
+        #: depends on the machine's speed)
+        self.solve_work_limit: int | None = None
         self.solve_time_limit: float | None = None
         self.uids = uids
         self.prover = DeadEndProver(model)
@@ -81,10 +100,11 @@ class AbstractPlanner:
         self.notes = []
         self.plan_steps = 0
         primary = self.chain[0]
-        cap = self.solve_time_limit
+        cap = _Cap(self.solve_work_limit, self.solve_time_limit)
         solution = self._solve_with(primary, state, learned, cap)
         if not solution.converged and self.timeout_plan and self._remaining() > 0.05:
-            planned = with_greedy_plan(solution, min(cap or math.inf, self._remaining()))
+            planned = with_greedy_plan(solution, min(cap.seconds or math.inf, self._remaining()),
+                                       cap.work)
             if planned is not None:
                 self.solve_time_s += planned[0].solve_time_s - solution.solve_time_s
                 solution, self.plan_steps = planned
@@ -99,12 +119,11 @@ class AbstractPlanner:
         for _ in range(self.max_retries):
             if solution.converged or self._remaining() <= 0.05:
                 break
-            cap = 2 * cap if cap else None
+            cap = cap.doubled()
             self.timeouts += 1
             pruned = f", outcomes below {primary.prune_probability:g} left for later" \
                 if primary.prune_probability else ""
-            self.notes.append(f"solver timeout: retry with more time ({cap:g} s{pruned})" if cap
-                              else f"solver timeout: retry{pruned}")
+            self.notes.append(f"solver timeout: retry with twice the budget ({cap}{pruned})")
             solution = self._solve_with(primary, state, learned, cap)
         for fallback in self.chain[1:]:
             if solution.goal_probability > 0.0 or self._remaining() <= 0.05:
@@ -122,11 +141,13 @@ class AbstractPlanner:
         return float("inf") if self.deadline is None else self.deadline - time.perf_counter()
 
     def _solve_with(self, options: SolverOptions, state: int,
-                    learned: tuple[int, int] | None, cap: float | None) -> Solution:
+                    learned: tuple[int, int] | None, cap: _Cap) -> Solution:
         opts = replace(options, forbidden=frozenset(self.forbidden)) if self.forbidden else options
-        budget = [b for b in (cap, self.deadline and max(0.05, self._remaining())) if b]
+        budget = [b for b in (cap.seconds, self.deadline and max(0.05, self._remaining())) if b]
         if budget:
             opts = replace(opts, time_limit=min(budget))
+        if cap.work is not None:
+            opts = replace(opts, work_limit=cap.work)
         key = f"{options.heuristic}:{options.weight}"
         warm = self._last.get(key)  # valid with more bans too (values stay lower bounds)
         if warm is not None and self._too_big(warm):

@@ -49,6 +49,9 @@ def check_options(options: SolverOptions) -> None:
     if options.time_limit is not None and not options.time_limit > 0:
         problems.append(error("S006", f"time limit must be positive, got {options.time_limit}",
                               _OPTIONS_SPAN))
+    if options.work_limit is not None and not options.work_limit > 0:
+        problems.append(error("S006", f"work limit must be positive, got {options.work_limit}",
+                              _OPTIONS_SPAN))
     if problems:
         raise StampcError(problems)
 
@@ -116,7 +119,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
             # Same transitions: continue from a copy of the whole table set.
             space = copy.copy(old.space)
             space.transfer, space.transferred = transfer, 0
-            search = Search(space, options.time_limit)
+            search = Search(space, options.time_limit, options.work_limit)
             search.V = dict(old.V)
             search.best = dict(old.best)
             search.terminal = set(old.terminal)
@@ -139,7 +142,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
     space = Space(cache, h, options.dead_end_cost, horizon, options.forbidden,
                   warm=warm_values, guide=guide.V if guide else None, steps=steps)
     space.transfer = transfer
-    search = Search(space, options.time_limit)
+    search = Search(space, options.time_limit, options.work_limit)
     search.guide = guide
     return search
 
@@ -149,7 +152,7 @@ def _run_guide(search: Search, state: int, epsilon: float) -> None:
     guide = search.guide
     if guide is None:
         return
-    guide.deadline = search.deadline
+    guide.deadline, guide.work_limit = search.deadline, search.work_limit
     lao(guide, state, epsilon)
 
 

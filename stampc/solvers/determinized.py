@@ -27,10 +27,13 @@ from stampc.solvers.solution import Solution
 _TIME_CHECK_EVERY = 8
 
 
-def greedy_plan(search: Search, init: int, deadline: float) -> list[tuple[int, int]] | None:
+def greedy_plan(search: Search, init: int, deadline: float,
+                work_limit: int | None = None) -> list[tuple[int, int]] | None:
     """[(node, transition index)] from ``init`` to a goal node, by greedy best-first search
     on the nodes' current values (heuristic or backed up); ties go to the likelier path,
-    then the cheaper one. ``None``: no plan found before ``deadline`` or none exists."""
+    then the cheaper one. ``None``: no plan found before ``deadline``, within
+    ``work_limit`` more units of the search's work, or none exists."""
+    stop_at = None if work_limit is None else search.work + work_limit
     V, terminal, expanded = search.V, search.terminal, search.expanded
     is_goal = search.space.cache.is_goal
     state_of = search.space.state
@@ -49,7 +52,9 @@ def greedy_plan(search: Search, init: int, deadline: float) -> list[tuple[int, i
             if x not in terminal:  # as LAO* does: every expanded node has its greedy
                 search.backup(x)   # choice, so the tables stay a valid warm start
             expansions += 1
-            if expansions % _TIME_CHECK_EVERY == 0 and time.perf_counter() > deadline:
+            if expansions % _TIME_CHECK_EVERY == 0 and (
+                    time.perf_counter() > deadline
+                    or stop_at is not None and search.work > stop_at):
                 return None
         for i, (_, cost, probs, nexts) in enumerate(expanded[x]):
             for p, n in zip(probs, nexts):
@@ -71,17 +76,18 @@ def _path_to(parent: dict[int, tuple[int, int] | None], goal: int) -> list[tuple
     return path
 
 
-def with_greedy_plan(solution: Solution, time_limit: float) -> tuple[Solution, int] | None:
+def with_greedy_plan(solution: Solution, time_limit: float,
+                     work_limit: int | None = None) -> tuple[Solution, int] | None:
     """``solution`` (a timed-out search) with a determinized plan from its initial state
     as the greedy choice along the plan, and the plan's length; ``None`` when no plan was
-    found within ``time_limit`` seconds. The result is a partial policy
+    found within ``time_limit`` seconds or ``work_limit`` units of work. The result is a partial policy
     (``converged=False``): outcomes off the plan are unplanned tips."""
     search = solution.search
     if search is None:
         return None
     x0 = search.space.node(solution.init, 0)
     start = time.perf_counter()
-    plan = greedy_plan(search, x0, start + time_limit)
+    plan = greedy_plan(search, x0, start + time_limit, work_limit)
     if plan is None:
         return None
     for node, index in plan:

@@ -33,6 +33,7 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
         visited = {init}
         stack = [init]
         reach = {init: 1.0}  # first-visit path probability (pruning only)
+        scanned = 0  # transitions backed up in postorder (the search's work counter)
         while stack:
             x = stack.pop()
             if x < 0:  # post-visit marker: Bellman backup (Search.greedy, inlined)
@@ -53,6 +54,7 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
                     changed = True
                     best[x] = bi
                 V[x] = bq
+                scanned += i
                 continue
             if x not in expanded:
                 if prune and reach[x] < prune:
@@ -63,6 +65,8 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
                 # check the clock only once x is backed up: a timed-out search stays a
                 # consistent warm start (every expanded node has its greedy action)
                 if expansions % _TIME_CHECK_EVERY == 0:
+                    search.backed_up += scanned
+                    scanned = 0
                     search.check_time()
                 if x in terminal or rose or not dive:
                     continue  # a rising estimate lets the parents reconsider first
@@ -79,6 +83,7 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
                         visited.add(n)
                         if n not in terminal:
                             stack.append(n)
+        search.backed_up += scanned
         search.check_time()
         if expansions == 0 and not changed and residual < epsilon:
             return

@@ -44,21 +44,21 @@ def test_a_converged_solve_without_goal_in_reach_grows_the_horizon():
 
 def test_a_solver_timeout_leaves_the_horizon_unchanged():
     engine = engine_for(SHELF, horizon=1, solve_retries=1, timeout_plan=False)
-    engine.planner.solve_time_limit = 1e-9  # every solve is cut off at its first check
+    engine.planner.solve_work_limit = 1  # every solve is cut off at its first check
     _, blocked, _ = _learned_shelf_states()
     graph = PolicyGraph(-1, {})
     graph.root = engine._graft_growing(graph, blocked, 0, None)
     assert engine.horizon == 1
     assert engine.planner.timeouts >= 1
     notes = " | ".join(engine._notes)
-    assert "solver timeout: retry with more time" in notes and "horizon kept at 1" in notes
+    assert "solver timeout: retry with twice the budget" in notes and "horizon kept at 1" in notes
 
 
 @pytest.mark.parametrize("prune", (0.0, 0.5))
 def test_a_capped_solve_is_continued_as_a_partial_solve(prune):
     engine = engine_for(SHELF, horizon=8, solve_retries=1, timeout_prune_probability=prune,
                         timeout_plan=False)
-    engine.planner.solve_time_limit = 1e-9  # every solve is cut off at its first check
+    engine.planner.solve_work_limit = 1  # every solve is cut off at its first check
     engine.planner.log = []
     _, blocked, _ = _learned_shelf_states()
     engine._graft_growing(PolicyGraph(-1, {}), blocked, 0, None)
@@ -77,7 +77,7 @@ def test_a_timeout_prune_probability_outside_zero_one_is_refused():
 
 def test_unplanned_tips_of_a_timed_out_solve_become_horizon_leaves():
     engine = engine_for(SHELF, horizon=8, solve_retries=0, timeout_plan=False)
-    engine.planner.solve_time_limit = 1e-9
+    engine.planner.solve_work_limit = 1
     _, blocked, _ = _learned_shelf_states()
     graph = PolicyGraph(-1, {})
     graph.root = engine._graft_growing(graph, blocked, 0, None)
@@ -110,7 +110,7 @@ def test_a_capped_solve_refines_a_determinized_plan_first():
     instead of retries: its path reaches the goal past the horizon, its actions are
     applicable, the outcomes off it wait as horizon leaves; the run still covers all."""
     engine = engine_for(SHELF, horizon=1, seed=0, time_limit=60)
-    engine.planner.solve_time_limit = 1e-9
+    engine.planner.solve_work_limit = 1
     gm, blocked, _ = _learned_shelf_states()
     graph = PolicyGraph(-1, {})
     graph.root = engine._graft_growing(graph, blocked, 0, None)
@@ -298,3 +298,37 @@ def test_resampling_prefers_the_ancestor_that_generated_the_failing_actions_argu
     assert engine._resample_target(graph, (0, 1, 3)).uid == 1  # nothing relevant: least
     nodes[0].resamples = engine.options.max_resamples  # exhausted: the others remain
     assert engine._resample_target(graph, (0, 1, 2)).uid == 1
+
+
+def test_runs_whose_solves_hit_the_work_cap_are_reproducible():
+    """A work cap (not a time cap) decides where a capped solve stops: two runs of a seed
+    whose solves hit it take the same steps and end with the same policy."""
+    def run():
+        engine = engine_for(SHELF, seed=3, solve_work_limit=20)
+        steps = [(e.kind, e.detail, e.coverage, e.abstract_solves) for e in engine.run()]
+        return steps, engine.planner.timeouts
+
+    first, second = run(), run()
+    assert first[1] >= 2  # the cap did bind (a determinized plan, a retry)
+    assert any("solver timeout" in detail for _, detail, _, _ in first[0])
+    assert first == second
+    assert first[0][-1][2] == pytest.approx(1.0)
+
+
+def test_the_time_guard_still_caps_a_solve_without_a_work_limit():
+    engine = engine_for(SHELF, horizon=1, solve_retries=1, timeout_plan=False,
+                        solve_work_limit=None)
+    engine.planner.solve_time_limit = 1e-9
+    _, blocked, _ = _learned_shelf_states()
+    engine._graft_growing(PolicyGraph(-1, {}), blocked, 0, None)
+    notes = " | ".join(engine._notes)
+    assert engine.planner.timeouts >= 1 and "retry with twice the budget (2e-09 s," in notes
+
+
+@pytest.mark.parametrize("bad", ({"solve_work_limit": 0}, {"solve_time_limit": 0.0}))
+def test_solve_caps_below_one_unit_are_refused(bad):
+    from stampc.refine import check_refine_options
+
+    with pytest.raises(StampcError) as err:
+        check_refine_options(RefineOptions(**bad))
+    assert {d.code for d in err.value.diagnostics} == {"R003"}
