@@ -80,8 +80,8 @@ def with_greedy_plan(solution: Solution, time_limit: float,
                      work_limit: int | None = None) -> tuple[Solution, int] | None:
     """``solution`` (a timed-out search) with a determinized plan from its initial state
     as the greedy choice along the plan, and the plan's length; ``None`` when no plan was
-    found within ``time_limit`` seconds or ``work_limit`` units of work. The result is a partial policy
-    (``converged=False``): outcomes off the plan are unplanned tips."""
+    found within ``time_limit`` seconds or ``work_limit`` units of work. The result is a
+    partial policy (``converged=False``): outcomes off the plan are unplanned tips."""
     search = solution.search
     if search is None:
         return None
