@@ -11,7 +11,7 @@ from stampc.diagnostics import StampcError
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation as manip
 from stampc.worlds.pybullet import open_world, robots
-from stampc.worlds.pybullet.scene import parse_scene
+from stampc.worlds.pybullet.scene_check import parse_scene
 from stampc.worlds.pybullet.values import Base, Pose, as_config, as_traj
 
 CAN = {"shape": "cylinder", "radius": 0.03, "height": 0.12, "mass": 0.1}

@@ -13,7 +13,7 @@ from stampc.diagnostics import StampcError
 from stampc.worlds.base import Context, World
 from stampc.worlds.pybullet import open_world
 from stampc.worlds.pybullet import manipulation as manip
-from stampc.worlds.pybullet.scene import parse_scene
+from stampc.worlds.pybullet.scene_check import parse_scene
 from stampc.worlds.pybullet.scenes import TABLE, aircraft, cluttered_table, domino_row
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 

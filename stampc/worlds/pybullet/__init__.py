@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from stampc.worlds.base import scene_argument
-from stampc.worlds.pybullet.scene import parse_scene
+from stampc.worlds.pybullet.scene_check import parse_scene
 from stampc.worlds.pybullet.values import Config, Grasp, Pose, Traj
 from stampc.worlds.pybullet.world import PyBulletWorld, WorldState
 
