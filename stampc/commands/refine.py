@@ -47,6 +47,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="abstract solves leave outcomes reached with probability below P "
                              "unplanned until refinement gets there (default 0: plan every "
                              "outcome at once; docs/refine.md)")
+    parser.add_argument("--no-resample-placers", action="store_true",
+                        help="write an obstruction by an object the previous action just "
+                             "placed into the abstract state, instead of re-sampling that "
+                             "placement first (docs/refine.md)")
     parser.add_argument("--solve-work-limit", type=positive_int, default=None, metavar="N",
                         help="cap on one abstract solve's work, in units of about one "
                              "heuristic evaluation (default: about 10 s of a 25-can "
@@ -88,6 +92,7 @@ def run(args: argparse.Namespace) -> int:
         ban_everywhere_after=args.ban_everywhere_after,
         accept_dead_end_after=args.accept_dead_end_after,
         solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
+        resample_placers=not args.no_resample_placers,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability
                              is None else args.prune_probability))

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Callable, Iterator
 
+from stampc.ir.grounded import bits
 from stampc.refine.fixed import needing_otherwise
 from stampc.refine.graph import GOAL, HORIZON, Node, PolicyGraph, adopt, detach_subtree
 from stampc.solvers.space import ANY_STATE
@@ -94,6 +95,33 @@ class Backtracking:
         relevant = [n for n in candidates if uses & set(map(str, n.sigma))]
         pool = relevant or candidates
         return min(pool, key=lambda n: n.resamples) if pool else None
+
+    def _placer_of_blocker(self, graph: PolicyGraph, path: tuple[int, ...],
+                           learned) -> Node | None:
+        """The failing node's nearest refined ancestor with generated values, when it put
+        an object a fact learned true names at a value it sampled itself
+        (``place(can0, table, p, ...)`` adding ``at(can0, p)``, when ``collision(can0,
+        t)`` is learned just below it) and may still be re-sampled. Its choice is what
+        failed, not the abstraction: writing the obstruction into the abstract state
+        instead makes the replan work around a can the policy just put in the way
+        (cluttered-25 seed 5: a 0.45 branch replanned through three more blockers and two
+        base moves, unrefined after 2,400 s). Only the nearest such ancestor: re-drawing
+        farther placements (any on the path) threw away the refinements between them
+        and the failure (docs/refine.md, "Placements in the way")."""
+        if not self.options.resample_placers:
+            return None
+        named = {a for f, value in learned if value for a in self.model.facts[f].args}
+        node = next((graph[u] for u in reversed(path[:-1])
+                     if graph[u].refined and graph[u].sigma), None)
+        if node is None or node.action is None or node.resamples >= self.options.max_resamples:
+            return None
+        sampled = set(map(str, node.sigma))
+        for outcome in self.model.actions[node.action].outcomes(node.state):
+            for fact in bits(outcome.add):
+                args = set(self.model.facts[fact].args)
+                if args & named and args & sampled:
+                    return node
+        return None
 
     def _resample(self, graph: PolicyGraph, ancestor: Node, failed: Node) -> tuple[str, str]:
         """Backtrack: draw fresh generator values for ``ancestor``. Every refinement below

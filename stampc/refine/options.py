@@ -82,6 +82,11 @@ class RefineOptions:
     #: backtracking over refined ancestors (Alg. 1): how often one node's generator
     #: values may be re-drawn because an action below it found no usable sample
     max_resamples: int = 3
+    #: a fact learned true that names an object the failing node's nearest refined
+    #: ancestor put at a value it sampled (a can just placed in the way) re-samples that
+    #: ancestor, up to ``max_resamples`` times, instead of being written into the
+    #: abstract state (docs/refine.md, "Placements in the way")
+    resample_placers: bool = True
     #: memory bound of the abstract solver's warm tables (states): a re-solve whose
     #: previous tables hold more starts cold (≈2.5 KB per state on the cluttered table)
     warm_state_limit: int | None = 400_000

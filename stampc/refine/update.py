@@ -40,6 +40,10 @@ class Updating:
             # so the branches that learned one still merge with those that did not
             learned = self._ban_against_fixed_facts(failure.violated)
             self.memory.remember(learned)
+            placer = self._placer_of_blocker(graph, path, learned)
+            if placer is not None:
+                graph.own(node.uid).attempts += 1  # the failed node draws fresh samples too
+                return self._resample(graph, placer, node)
             self._ban_no_progress(graph, path, learned)
             recalled = self._recall(node, learned, values)
             return self._update(graph, node, learned, "update", path, recalled)
