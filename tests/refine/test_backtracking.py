@@ -248,3 +248,40 @@ def test_placements_are_re_drawn_at_most_max_resamples_times():
     engine, events = shelf_run(max_resamples=0)
     assert not [e for e in events if e.kind == "resample"] and engine.resamples == 0
     assert engine.result().coverage == pytest.approx(1.0, abs=1e-9)
+
+
+def _refined_path_through(graph, model, label_prefix: str) -> tuple[int, ...]:
+    """A root-to-leaf path of ``graph`` with a refined node whose action starts so."""
+    def paths(uid, acc):
+        acc = acc + (uid,)
+        if not graph[uid].edges:
+            yield acc
+        for edge in graph[uid].edges:
+            yield from paths(edge.child, acc)
+    return next(p for p in paths(graph.root, ()) if any(
+        graph[u].refined and graph[u].action is not None
+        and model.actions[graph[u].action].label.startswith(label_prefix) for u in p))
+
+
+def _fact(model, text: str) -> int:
+    return next(i for i, f in enumerate(model.facts) if str(f) == text)
+
+
+def test_only_the_nearest_refined_ancestor_is_taken_for_the_placer():
+    """On a refined path pick(can1), place(can1), pick(can0): an obstruction of can0's
+    pick by can1 names the nearest ancestor (the place); one by can2 (never placed on
+    this path) names none; nor does can1's obstruction of a later step once another
+    sampled action stands between; nor a fact learned false."""
+    engine, _ = shelf_run()
+    graph, model = engine.best_graph, engine.model
+    path = _refined_path_through(graph, model, "place(can1")
+    place = next(u for u in path if graph[u].action is not None
+                 and model.actions[graph[u].action].label.startswith("place(can1"))
+    pick = path[path.index(place) + 1]
+    upto = path[:path.index(pick) + 1]
+    by_can1 = _fact(model, "collision(can1, t_pick_can0_pose_can0)")
+    by_can2 = _fact(model, "collision(can2, t_pick_can0_pose_can0)")
+    assert engine._placer_of_blocker(graph, upto, [(by_can1, True)]) is graph[place]
+    assert engine._placer_of_blocker(graph, upto, [(by_can2, True)]) is None
+    assert engine._placer_of_blocker(graph, upto, [(by_can1, False)]) is None
+    assert engine._placer_of_blocker(graph, upto[:-1] + (pick, pick), [(by_can1, True)]) is None
