@@ -163,6 +163,8 @@ def work_counts(result: Path, stats: dict) -> dict[str, int]:
         branches = sum(1 for n in nodes if n.get("leaf"))
     return {"learned": learned, "updates": events.count("update"),
             "solves": int(summary.get("abstract_solves", 0)),
+            "timeouts": int(summary.get("solver_timeouts", 0)),
+            "resamples": int(summary.get("resamples", 0)),
             "prg": int(summary.get("prg_nodes", 0)),
             "refined": int(summary.get("refined_nodes", 0)),
             "planner": int(stats.get("planner_calls", 0)),

@@ -11,10 +11,15 @@ from paper_classes import PAPER_SETUP
 SPEEDUP = 50.0  # target: median whole-process time <= paper average / 50
 ANYTIME_MIN_S = 10.0  # classes whose median run takes this long get the anytime table
 WORK = (("learned", "facts learned"), ("updates", "UpdateAbstraction"),
-        ("solves", "abstract solves"), ("prg", "PRG nodes"), ("refined", "refined nodes"),
+        ("solves", "abstract solves"), ("timeouts", "capped solves"),
+        ("resamples", "re-samples"), ("prg", "PRG nodes"), ("refined", "refined nodes"),
         ("planner", "planner calls"), ("checks", "collision checks"),
         ("branches", "policy branches"), ("ground_actions", "ground actions"),
         ("ground_facts", "ground facts"))
+
+
+def _mean(values: Sequence[float]) -> float | None:
+    return statistics.fmean(values) if values else None
 
 
 def _median(values: Sequence[float]) -> float | None:
@@ -80,7 +85,8 @@ def work_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
     for cls in classes:
         rs = [r for r in _rows(records, cls) if r.work]
         if rs:
-            cells = [_fmt(statistics.fmean(r.work.get(k, 0) for r in rs), 1) for k, _ in WORK]
+            # a counter older runs.json files lack is "—", not a mean of zeros
+            cells = [_fmt(_mean([r.work[k] for r in rs if k in r.work]), 1) for k, _ in WORK]
             lines.append(f"| {cls.name} | " + " | ".join(cells) + " |")
     return lines
 
