@@ -131,8 +131,11 @@ def test_a_recalling_run_is_executed_cleanly_by_the_world(cluttered15, tmp_path)
     from stampc.execute.session import execute_file
 
     problem, _ = cluttered15
+    # without re-drawing placements in the way (resample_placers), which solves this
+    # seed in 20 refined nodes before any fact is recalled
     run = stampc.refine_policy([DOMAIN, problem], world="pybullet", options=RefineOptions(
-        seed=6, time_limit=None, max_iterations=110, target_coverage=0.999))
+        seed=6, time_limit=None, max_iterations=110, target_coverage=0.999,
+        resample_placers=False))
     assert run.result.recalled_facts > 0
     learned_before: set[str] = set()
     recalled = 0
