@@ -302,7 +302,7 @@ def test_resampling_prefers_the_ancestor_that_generated_the_failing_actions_argu
 
 def test_runs_whose_solves_hit_the_work_cap_are_reproducible():
     """A work cap (not a time cap) decides where a capped solve stops: two runs of a seed
-    whose solves hit it take the same steps and end with the same policy."""
+    whose solves hit it take the same steps to the same coverage."""
     def run():
         engine = engine_for(SHELF, seed=3, solve_work_limit=20)
         steps = [(e.kind, e.detail, e.coverage, e.abstract_solves) for e in engine.run()]
