@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from pathlib import Path
 
 import pytest
 
@@ -20,7 +21,7 @@ DOMAIN, PROBLEM2D = str(CLUTTERED / "domain_fixed.stamp"), str(CLUTTERED / "prob
 FLOAT_LIMITS = [("solve", "--time-limit"), ("solve", "--epsilon"), ("solve", "--dead-end-cost"),
                 ("refine", "--time-limit")]
 INT_LIMITS = [("solve", "--horizon"), ("solve", "--max-steps"), ("refine", "--horizon"),
-              ("execute", "--runs"), ("execute", "--max-steps")]
+              ("refine", "--solve-work-limit"), ("execute", "--runs"), ("execute", "--max-steps")]
 BAD_VALUES = ["0", "-5", "nan", "inf"]
 
 
@@ -116,3 +117,32 @@ def test_the_api_refuses_the_limits_the_cli_refuses(options):
         stampc.refine_policy([SHELF / "domain.stamp", SHELF / "problem.stamp"],
                              options=RefineOptions(**options))
     assert info.value.diagnostics[0].code in ("R001", "R002", "R003")
+
+
+SHELF_DATA = Path(__file__).resolve().parents[1] / "refine" / "data"
+
+
+def _refine_shelf(tmp_path, *flags: str) -> tuple[list[str], dict]:
+    """Shelf seed 7 in UpdateAbstraction mode: its events and summary."""
+    out = tmp_path / "run"
+    code = main(["refine", str(SHELF_DATA / "shelf.stamp"), str(SHELF_DATA / "shelf5.stamp"),
+                 "--seed", "7", "--update-probability", "1", "--quiet", "-o", str(out), *flags])
+    assert code == 0
+    events = [line.rsplit(",", 1)[-1] for line in
+              (out / "coverage.csv").read_text().splitlines()[1:]]
+    return events, json.loads((out / "summary.json").read_text())
+
+
+@pytest.mark.parametrize("flags,resampled", [((), True), (("--no-resample-placers",), False)])
+def test_no_resample_placers_reaches_the_engine(flags, resampled, tmp_path, capsys):
+    """This seed re-draws a placement in the way unless ``--no-resample-placers``."""
+    events, summary = _refine_shelf(tmp_path, *flags)
+    assert ("resample" in events) == resampled
+    assert summary["coverage"] == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("flags,capped", [((), False), (("--solve-work-limit", "20"), True)])
+def test_solve_work_limit_reaches_the_engine(flags, capped, tmp_path, capsys):
+    _, summary = _refine_shelf(tmp_path, *flags)
+    assert (summary["solver_timeouts"] > 0) == capped
+    assert summary["coverage"] == pytest.approx(1.0)
