@@ -64,8 +64,9 @@ class RefineOptions:
     #: solve at the same point on any machine and under any load, so runs whose solves
     #: hit it stay reproducible for a seed (docs/refine.md, "Determinism").
     solve_work_limit: int | None = SOLVE_WORK_LIMIT
-    #: cap on one abstract (re)solve, in seconds: a guard for machines much slower than
-    #: the work cap assumes (where it binds, the run depends on the machine's speed)
+    #: cap on one abstract (re)solve, in seconds: a guard for machines much slower (or
+    #: more loaded) than the work cap assumes (where it binds, the run depends on the
+    #: machine's speed; docs/refine.md, "Determinism")
     solve_time_limit: float = 30.0
     #: a capped solve is continued this many times, doubling its cap, before its
     #: partial policy is used (a timeout is not a verdict on the horizon)
