@@ -25,7 +25,8 @@ BACKUPS_PER_WORK = 50
 
 
 class SolverTimeout(Exception):
-    """Internal: the time limit was reached (the caller returns ``converged=False``)."""
+    """Internal: the time or work limit was reached (the caller returns
+    ``converged=False``)."""
 
 
 class Search:
@@ -62,7 +63,7 @@ class Search:
         return (EXPANSION_WORK * self.expansions + self.generated
                 + self.backed_up // BACKUPS_PER_WORK)
 
-    def check_time(self) -> None:
+    def check_limits(self) -> None:
         """Raise ``SolverTimeout`` past the deadline or the work limit."""
         if self.deadline is not None and time.perf_counter() > self.deadline:
             raise SolverTimeout()

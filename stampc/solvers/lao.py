@@ -62,12 +62,12 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
                 search.expand(x)
                 expansions += 1
                 rose = x not in terminal and search.backup(x) > epsilon
-                # check the clock only once x is backed up: a timed-out search stays a
+                # check the limits only once x is backed up: a stopped search stays a
                 # consistent warm start (every expanded node has its greedy action)
                 if expansions % _TIME_CHECK_EVERY == 0:
                     search.backed_up += scanned
                     scanned = 0
-                    search.check_time()
+                    search.check_limits()
                 if x in terminal or rose or not dive:
                     continue  # a rising estimate lets the parents reconsider first
             stack.append(-x - 1)
@@ -84,7 +84,7 @@ def lao(search: Search, init: int, epsilon: float, dive: bool = True,
                         if n not in terminal:
                             stack.append(n)
         search.backed_up += scanned
-        search.check_time()
+        search.check_limits()
         if expansions == 0 and not changed and residual < epsilon:
             return
         if search.stop is not None and search.stop(init):

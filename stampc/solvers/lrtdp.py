@@ -25,7 +25,7 @@ def lrtdp(search: Search, init: int, epsilon: float, seed: int) -> None:
         trials += 1
         search.iterations += 1
         if trials % 32 == 0:
-            search.check_time()
+            search.check_limits()
         path = _trial(search, init, solved, rng)
         while path:
             x = path.pop()

@@ -78,7 +78,7 @@ def topological_vi(search: Search, init: int, epsilon: float) -> None:
             search.backup(comp[0])
             continue
         sweep_until_converged(search, comp, epsilon)
-        search.check_time()
+        search.check_limits()
 
 
 def _self_successors(search: Search, x: int) -> set[int]:
