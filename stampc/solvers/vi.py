@@ -52,7 +52,8 @@ def value_iteration(search: Search, init: int, epsilon: float) -> None:
 
 def sweep_until_converged(search: Search, nodes: list[int], epsilon: float) -> None:
     """Gauss-Seidel sweeps over ``nodes`` (in order) until the largest Bellman residual
-    of a sweep is below ``epsilon`` (or MAX_SWEEPS); checks the time and work limits every 16 sweeps, from the first."""
+    of a sweep is below ``epsilon`` (or MAX_SWEEPS); checks the time and work limits every
+    16 sweeps, from the first."""
     backup = search.backup
     for sweep in range(MAX_SWEEPS):
         search.iterations += 1
