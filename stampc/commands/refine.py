@@ -56,6 +56,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "heuristic evaluation (default: about 10 s of a 25-can "
                              "re-solve); unlike a time cap, a work cap keeps runs whose "
                              "solves hit it reproducible (docs/refine.md, Determinism)")
+    parser.add_argument("--fixed-solve-cap", action="store_true",
+                        help="give every abstract solve the whole work cap, instead of "
+                             "quartering it after a capped solve that a determinized plan "
+                             "answered (docs/refine.md, Solve caps)")
     parser.add_argument("--workers", type=positive_int, default=1, metavar="N",
                         help="concretize up to N independent nodes at a time: this "
                              "process and N-1 worker processes (default 1: no worker); "
@@ -93,6 +97,7 @@ def run(args: argparse.Namespace) -> int:
         accept_dead_end_after=args.accept_dead_end_after,
         solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
         resample_placers=not args.no_resample_placers,
+        adaptive_solve_cap=not args.fixed_solve_cap,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability
                              is None else args.prune_probability))

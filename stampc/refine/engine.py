@@ -58,6 +58,7 @@ class Engine(Updating, Backtracking, Reporting):
         self.planner.warm_state_limit = options.warm_state_limit
         self.planner.timeout_plan = options.timeout_plan
         self.planner.solve_work_limit = options.solve_work_limit
+        self.planner.adaptive_cap = options.adaptive_solve_cap
         self.concretizer = Concretizer(model, bindings, world, options.seed)
         self.memory = FactMemory(self.concretizer)
         self.initial_values = dict(world.initial_values())

@@ -22,6 +22,10 @@ from stampc.solvers.determinized import with_greedy_plan
 from stampc.solvers.space import is_forbidden
 
 
+#: the adaptive cap goes down to 1/2**MAX_CAP_SHIFT of the solve work limit
+MAX_CAP_SHIFT = 4
+
+
 @dataclass(frozen=True)
 class _Cap:
     """A single solve's budget: work units (``Search.work``) and seconds."""
@@ -83,6 +87,13 @@ class AbstractPlanner:
         self.timeout_plan = True
         #: length of the determinized plan the last solve returned (0: none)
         self.plan_steps = 0
+        #: a capped solve that a determinized plan then answered quarters the next
+        #: solve's work cap (down to 1/2**MAX_CAP_SHIFT of ``solve_work_limit``); a solve
+        #: that converges within its cap doubles it back. A run whose model outgrew the
+        #: cap then stops paying the whole cap for every update (docs/refine.md,
+        #: "Solve caps"). Work-based, so as reproducible as the cap itself.
+        self.adaptive_cap = True
+        self.cap_shift = 0
 
     def solve_from(self, state: int, learned: tuple[int, int] | None = None) -> Solution:
         """Solve from ``state``; ``learned`` = (facts learned true, learned false) since
@@ -100,12 +111,22 @@ class AbstractPlanner:
         self.notes = []
         self.plan_steps = 0
         primary = self.chain[0]
-        cap = _Cap(self.solve_work_limit, self.solve_time_limit)
+        full = _Cap(self.solve_work_limit, self.solve_time_limit)
+        cap = self._first_cap(full)
         solution = self._solve_with(primary, state, learned, cap)
+        if solution.converged and self.cap_shift:
+            self.cap_shift -= 1
+        elif not solution.converged and cap != full:
+            self.notes.append(f"solver timeout at the adaptive cap ({cap}: earlier capped "
+                              "solves were answered by determinized plans)")
         if not solution.converged and self.timeout_plan and self._remaining() > 0.05:
-            planned = with_greedy_plan(solution, min(cap.seconds or math.inf, self._remaining()),
-                                       cap.work)
+            # the plan gets the full cap: a plan found is cheap, and the shrunk cap is
+            # only a bet that the contingent solve will not converge
+            planned = with_greedy_plan(solution, min(full.seconds or math.inf, self._remaining()),
+                                       full.work)
             if planned is not None:
+                if self.adaptive_cap:
+                    self.cap_shift = min(MAX_CAP_SHIFT, self.cap_shift + 2)
                 self.solve_time_s += planned[0].solve_time_s - solution.solve_time_s
                 solution, self.plan_steps = planned
                 self.timeouts += 1
@@ -116,6 +137,10 @@ class AbstractPlanner:
                 return solution
         if self.timeout_prune > primary.prune_probability:
             primary = replace(primary, prune_probability=self.timeout_prune)
+        if not solution.converged:
+            # no plan either: the bet on a cheap answer lost; continue from the full cap
+            self.cap_shift = 0
+            cap = full
         for _ in range(self.max_retries):
             if solution.converged or self._remaining() <= 0.05:
                 break
@@ -136,6 +161,11 @@ class AbstractPlanner:
             self.notes.append("solver timeout: best partial policy kept")
         self.last_converged = solution.converged
         return solution
+
+    def _first_cap(self, full: _Cap) -> _Cap:
+        if full.work is None or not self.cap_shift:
+            return full
+        return _Cap(max(1, full.work >> self.cap_shift), full.seconds)
 
     def _remaining(self) -> float:
         return float("inf") if self.deadline is None else self.deadline - time.perf_counter()
