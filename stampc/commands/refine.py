@@ -59,7 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fixed-solve-cap", action="store_true",
                         help="give every abstract solve the whole work cap, instead of "
                              "quartering it after a capped solve that a determinized plan "
-                             "answered (docs/refine.md, Solve caps)")
+                             "answered (docs/refine.md, Solve caps adapt)")
     parser.add_argument("--workers", type=positive_int, default=1, metavar="N",
                         help="concretize up to N independent nodes at a time: this "
                              "process and N-1 worker processes (default 1: no worker); "

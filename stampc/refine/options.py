@@ -71,7 +71,7 @@ class RefineOptions:
     #: after a capped solve that a determinized plan answered, the next solve gets a
     #: quarter of the cap (down to 1/16); a solve converging within its cap doubles it
     #: back. Where the model outgrew the cap, every update no longer pays the whole cap
-    #: before its plan (cluttered-40 seed 3: ~19 s per update; docs/refine.md, "Solve caps")
+    #: before its plan (cluttered-40 seed 3: ~19 s per update; docs/refine.md, "Solve caps adapt")
     adaptive_solve_cap: bool = True
     #: a capped solve is continued this many times, doubling its cap, before its
     #: partial policy is used (a timeout is not a verdict on the horizon)

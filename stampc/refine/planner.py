@@ -91,7 +91,7 @@ class AbstractPlanner:
         #: solve's work cap (down to 1/2**MAX_CAP_SHIFT of ``solve_work_limit``); a solve
         #: that converges within its cap doubles it back. A run whose model outgrew the
         #: cap then stops paying the whole cap for every update (docs/refine.md,
-        #: "Solve caps"). Work-based, so as reproducible as the cap itself.
+        #: "Solve caps adapt"). Work-based, so as reproducible as the cap itself.
         self.adaptive_cap = True
         self.cap_shift = 0
 
@@ -106,8 +106,9 @@ class AbstractPlanner:
         a converged solve without a way to the goal falls back to the next solver
         settings (h_FF). Before any retry, a plan on the all-outcomes determinization is
         tried (``timeout_plan``): when one is found its path is the policy, and the
-        outcomes off it are planned when refinement reaches them. ``notes`` says what
-        happened."""
+        outcomes off it are planned when refinement reaches them. The first attempt's
+        cap adapts (``adaptive_cap``): quartered after a capped solve that a plan
+        answered, doubled back by each converged one. ``notes`` says what happened."""
         self.notes = []
         self.plan_steps = 0
         primary = self.chain[0]
