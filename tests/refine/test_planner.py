@@ -131,19 +131,28 @@ def test_a_capped_solve_refines_a_determinized_plan_first():
     assert events[-1].coverage == pytest.approx(1.0, abs=1e-9)
 
 
+def _planner_at_blocked_shelf(**options):
+    """A logging planner and the blocked shelf state (its solve needs 33 work units)."""
+    planner = engine_for(SHELF, horizon=8, seed=0, **options).planner
+    planner.log = []
+    _, blocked, _ = _learned_shelf_states()
+    return planner, blocked
+
+
+def _work_limits(planner) -> list:
+    return [entry[3].options.work_limit for entry in planner.log]
+
+
 def _solve_twice(adaptive: bool, first_cap: int, second_cap: int) -> list:
     """Two solves from the blocked shelf state: the first with ``first_cap`` (16 work
     units cap it and a determinized plan answers it; it needs 33), then ``second_cap``."""
-    engine = engine_for(SHELF, horizon=8, seed=0, adaptive_solve_cap=adaptive)
-    planner = engine.planner
-    planner.log = []
-    _, blocked, _ = _learned_shelf_states()
+    planner, blocked = _planner_at_blocked_shelf(adaptive_solve_cap=adaptive)
     planner.solve_work_limit = first_cap
     planner.solve_from(blocked)
     shift = planner.cap_shift
     planner.solve_work_limit = second_cap
     planner.solve_from(blocked)
-    return [shift, planner.cap_shift, [entry[3].options.work_limit for entry in planner.log]]
+    return [shift, planner.cap_shift, _work_limits(planner)]
 
 
 def test_a_capped_solve_answered_by_a_plan_quarters_the_next_cap():
@@ -161,15 +170,11 @@ def test_a_fixed_solve_cap_never_shrinks():
 def test_a_shrunk_cap_without_a_plan_continues_from_the_full_cap():
     """When neither the shrunk solve nor a plan answers, the retries double the *full*
     cap (the bet on a cheap answer lost) and the cap is whole again afterwards."""
-    engine = engine_for(SHELF, horizon=8, seed=0, solve_retries=1)
-    planner = engine.planner
-    planner.log = []
-    planner.timeout_plan = False
+    planner, blocked = _planner_at_blocked_shelf(solve_retries=1, timeout_plan=False)
     planner.cap_shift = 2
     planner.solve_work_limit = 16
-    _, blocked, _ = _learned_shelf_states()
     planner.solve_from(blocked)
-    assert [entry[3].options.work_limit for entry in planner.log] == [4, 32]
+    assert _work_limits(planner) == [4, 32]
     assert planner.cap_shift == 0
     assert any("adaptive cap" in note for note in planner.notes)
 
