@@ -240,3 +240,29 @@ def test_postorder_puts_children_first_and_flags_cycles():
                        1: ("act", True, [(0.3, 0), (0.6, 2), (0.1, 3)]),
                        2: ("leaf", GOAL), 3: ("leaf", DEAD_END)})
     assert goal_probability(with_exit) == pytest.approx(6 / 7)
+
+
+def test_select_path_answers_when_the_open_mass_is_spread_over_exponentially_many_paths():
+    """An unrefined ladder of 40 two-way branches (0.5 / 0.5) that merge again: every
+    prefix has the same bound, so the best-first search alone goes breadth first and runs
+    out of pops before any leaf. It used to answer None, and the engine took the PRG node
+    for exhausted and backtracked (Keva tower-24 seed 6 for 557 s, with 0.072 of the mass
+    open below an unrefined subtree). The answer must be an uncovered path, and no worse
+    than any other one (all ratios are equal here)."""
+    spec: dict[int, tuple] = {}
+    for level in range(40):
+        a, nxt = 3 * level, 3 * level + 3
+        spec[a] = ("act", False, [(0.5, a + 1), (0.5, a + 2)])
+        spec[a + 1] = ("act", False, [(1.0, nxt)])
+        spec[a + 2] = ("act", False, [(1.0, nxt)])
+    spec[120] = ("leaf", GOAL)
+    g = build(spec)
+
+    def node_cost(n):
+        return 0.0 if n.is_leaf else 1.0
+
+    chosen = select_path(g, node_cost, max_pops=10_000)
+    assert chosen is not None
+    p, c, path = chosen
+    assert path[0] == 0 and path[-1] == 120 and not path_is_covered(g, path)
+    assert p == pytest.approx(0.5 ** 40) and c == 80.0
