@@ -170,7 +170,9 @@ def select_path(graph: PolicyGraph, node_cost: NodeCost, max_pops: int = 200_000
     start: _Prefix = (-u0 / max(c0 + r0, 1.0), 0, 1.0, c0, root.refined or root.is_leaf,
                       (graph.root,))
     best = _dive(graph, node_cost, b, start)
-    best_ratio = best[0] / best[1] if best is not None else 0.0
+    # just below the dive's ratio: a path as good, met by the search, still replaces it,
+    # so the answer is the one the search alone gives whenever its budget suffices
+    best_ratio = best[0] / best[1] * (1.0 - 1e-9) if best is not None else 0.0
     counter = 0
     heap = [start]
     pops = 0
