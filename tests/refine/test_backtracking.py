@@ -285,3 +285,26 @@ def test_only_the_nearest_refined_ancestor_is_taken_for_the_placer():
     assert engine._placer_of_blocker(graph, upto, [(by_can2, True)]) is None
     assert engine._placer_of_blocker(graph, upto, [(by_can1, False)]) is None
     assert engine._placer_of_blocker(graph, upto[:-1] + (pick, pick), [(by_can1, True)]) is None
+
+
+def test_the_achievers_of_a_failing_action_are_the_nearest_steps_that_made_its_preconditions_true():
+    """On a refined path pick(can2), discard(can2), pick(can1), place(can1), pick(can0):
+    pick(can0) stands on the place (it made `handempty` true and, optimistically, can1
+    out of the pick's way) and on the discard (can2 out of the way); pick(can1) and
+    pick(can2) made some of those true too, but a nearer step did it again after them.
+    The place stands on pick(can1) (`holding(can1)`). A re-sample for a failing
+    pick(can0) is taken among its achievers before any other ancestor."""
+    engine, _ = shelf_run()
+    graph, model = engine.best_graph, engine.model
+    path = _refined_path_through(graph, model, "place(can1")
+    label = {u: model.actions[graph[u].action].label for u in path if graph[u].action is not None}
+    place = next(u for u in path if label.get(u, "").startswith("place(can1"))
+    pick1, pick0 = path[path.index(place) - 1], path[path.index(place) + 1]
+    assert label[pick1].startswith("pick(can1") and label[pick0].startswith("pick(can0")
+    discard = next(u for u in path if label.get(u, "").startswith("discard(can2"))
+    upto_pick0 = path[:path.index(pick0) + 1]
+    assert engine._achievers(graph, upto_pick0) == [graph[place], graph[discard]]
+    assert graph[pick1] in engine._achievers(graph, path[:path.index(place) + 1])
+    target = engine._resample_target(graph, upto_pick0)
+    assert target in (graph[place], graph[discard])
+    assert min(graph[place].resamples, graph[discard].resamples) == target.resamples
