@@ -104,9 +104,10 @@ class Backtracking:
         """For each precondition fact of the path's failing action that some step of the
         path made true (added, or deleted for a negated one), the nearest such step: the
         choices the failing action stands on (the pick that gave the arm its grasp, the
-        put-downs of the planks it rests on). Re-drawing any ancestor instead walked down
-        a 24-level Keva tower (seed 2), re-drawing put-downs 40 planks below the failing
-        one, each throwing away every refinement above it."""
+        put-downs of the planks it rests on, the move that took a blocker out of the
+        way). Re-drawing any ancestor instead walked down a 24-level Keva tower (seeds 2
+        and 9), re-drawing put-downs up to 40 planks below the failing one, each throwing
+        away every refinement above it."""
         failing = graph[path[-1]].action
         if failing is None:
             return []
