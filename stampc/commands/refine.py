@@ -51,6 +51,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write an obstruction by an object the previous action just "
                              "placed into the abstract state, instead of re-sampling that "
                              "placement first (docs/refine.md)")
+    parser.add_argument("--achievers-first", action="store_true",
+                        help="re-sample the steps that made the failing action's "
+                             "preconditions true before other ancestors (docs/refine.md)")
     parser.add_argument("--solve-work-limit", type=positive_int, default=None, metavar="N",
                         help="cap on one abstract solve's work, in units of about one "
                              "heuristic evaluation (default: about 10 s of a 25-can "
@@ -97,6 +100,7 @@ def run(args: argparse.Namespace) -> int:
         accept_dead_end_after=args.accept_dead_end_after,
         solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
         resample_placers=not args.no_resample_placers,
+        achievers_first=args.achievers_first,
         adaptive_solve_cap=not args.fixed_solve_cap,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability

@@ -292,9 +292,10 @@ def test_the_achievers_of_a_failing_action_are_the_nearest_steps_that_made_its_p
     pick(can0) stands on the place (it made `handempty` true and, optimistically, can1
     out of the pick's way) and on the discard (can2 out of the way); pick(can1) and
     pick(can2) made some of those true too, but a nearer step did it again after them.
-    The place stands on pick(can1) (`holding(can1)`). A re-sample for a failing
-    pick(can0) is taken among its achievers before any other ancestor."""
-    engine, _ = shelf_run()
+    The place stands on pick(can1) (`holding(can1)`). With ``achievers_first``, a
+    re-sample for a failing pick(can0) is taken among its achievers before any other
+    ancestor."""
+    engine, _ = shelf_run(achievers_first=True)
     graph, model = engine.best_graph, engine.model
     path = _refined_path_through(graph, model, "place(can1")
     label = {u: model.actions[graph[u].action].label for u in path if graph[u].action is not None}
