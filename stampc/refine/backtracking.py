@@ -83,11 +83,11 @@ class Backtracking:
         generated a value the failing action takes as an argument (the placement of the
         can it must pick: cluttered-40 seed 3 re-drew unrelated ancestors 460 times while
         the placed can stayed out of reach), else (with ``achievers_first``) among the
-        achievers of its preconditions (``_achievers``), else among all, the one re-sampled least often
-        so far, the nearest among equals: which of them blocks the failing action is not
-        known, so the re-draws are spread over them instead of exhausting the nearest
-        one first (tried: nearest-first did worse on Keva tower-12 seed 2, coverage 0.24
-        vs 0.99 in 240-300 s)."""
+        achievers of its preconditions (``_achievers``), else among all, the one
+        re-sampled least often so far, the nearest among equals: which of them blocks
+        the failing action is not known, so the re-draws are spread over them instead
+        of exhausting the nearest one first (tried: nearest-first did worse on Keva
+        tower-12 seed 2, coverage 0.24 vs 0.99 in 240-300 s)."""
         candidates = [graph[u] for u in reversed(path[:-1])
                       if graph[u].refined and graph[u].sigma
                       and graph[u].resamples < self.options.max_resamples]
