@@ -164,17 +164,16 @@ def select_path(graph: PolicyGraph, node_cost: NodeCost, max_pops: int = 200_000
     b = bounds if bounds is not None else path_bounds(graph, node_cost)
     root = graph.nodes[graph.root]
     c0 = node_cost(root)
-    u0, r0 = b.open(graph.root) if root.refined or root.is_leaf else b.any(graph.root)
+    refined = root.refined or root.is_leaf
+    u0, r0 = b.open(graph.root) if refined else b.any(graph.root)
     if u0 <= 0.0:
         return None
-    start: _Prefix = (-u0 / max(c0 + r0, 1.0), 0, 1.0, c0, root.refined or root.is_leaf,
-                      (graph.root,))
-    best = _dive(graph, node_cost, b, start)
+    best = _dive(graph, node_cost, b, 1.0, c0, refined, (graph.root,))
     # just below the dive's ratio: a path as good, met by the search, still replaces it,
     # so the answer is the one the search alone gives whenever its budget suffices
     best_ratio = best[0] / best[1] * (1.0 - 1e-9) if best is not None else 0.0
     counter = 0
-    heap = [start]
+    heap = [(-u0 / max(c0 + r0, 1.0), counter, 1.0, c0, refined, (graph.root,))]
     pops = 0
     while heap and pops < max_pops:
         neg_bound, _, prob, cost, refined_prefix, path = heapq.heappop(heap)
@@ -182,23 +181,32 @@ def select_path(graph: PolicyGraph, node_cost: NodeCost, max_pops: int = 200_000
         if -neg_bound <= best_ratio:
             break
         if graph.nodes[path[-1]].is_leaf:
-            if not path_is_covered(graph, path) and 0 < cost < INF:
-                ratio = prob / cost
-                if ratio > best_ratio:
-                    best, best_ratio = (prob, cost, path), ratio
+            found = _uncovered(graph, prob, cost, path)
+            if found is not None and prob / cost > best_ratio:
+                best, best_ratio = found, prob / cost
             continue
-        for entry in _extensions(graph, node_cost, b, prob, cost, refined_prefix, path):
+        for neg, p2, c2, still, longer in _extensions(graph, node_cost, b, prob, cost,
+                                                      refined_prefix, path):
             counter += 1
-            heapq.heappush(heap, (entry[0], counter, *entry[2:]))
+            heapq.heappush(heap, (neg, counter, p2, c2, still, longer))
     return best
 
 
-#: a search entry: (-bound, tie-break, probability, ĉ so far, refined so far, path)
-_Prefix = tuple[float, int, float, float, bool, tuple[int, ...]]
+#: a prefix extended by one child: (-bound, probability, ĉ so far, refined so far, path)
+_Extension = tuple[float, float, float, bool, tuple[int, ...]]
+
+
+def _uncovered(graph: PolicyGraph, prob: float, cost: float,
+               path: tuple[int, ...]) -> tuple[float, float, tuple[int, ...]] | None:
+    """(p, ĉ, path) for a root-to-leaf ``path`` that is an answer: uncovered, and with a
+    finite ĉ > 0 (something left to refine or extend on it)."""
+    if path_is_covered(graph, path) or not 0 < cost < INF:
+        return None
+    return prob, cost, path
 
 
 def _extensions(graph: PolicyGraph, node_cost: NodeCost, b: Bounds, prob: float,
-                cost: float, refined_prefix: bool, path: tuple[int, ...]) -> list[_Prefix]:
+                cost: float, refined_prefix: bool, path: tuple[int, ...]) -> list[_Extension]:
     """The prefix ``path`` extended by each child with something open below it."""
     out = []
     for e in graph.nodes[path[-1]].edges:
@@ -210,24 +218,23 @@ def _extensions(graph: PolicyGraph, node_cost: NodeCost, b: Bounds, prob: float,
         if u <= 0.0:
             continue
         p2, c2 = prob * e.probability, cost + node_cost(child)
-        out.append((-p2 * u / max(c2 + r, 1.0), 0, p2, c2, still, path + (e.child,)))
+        out.append((-p2 * u / max(c2 + r, 1.0), p2, c2, still, path + (e.child,)))
     return out
 
 
-def _dive(graph: PolicyGraph, node_cost: NodeCost, b: Bounds,
-          start: _Prefix) -> tuple[float, float, tuple[int, ...]] | None:
-    """A first uncovered path, followed greedily down the best bound: the incumbent that
-    prunes the best-first search, and its answer if the pop budget runs out first. Where
-    the open mass is spread over exponentially many unlikely paths whose bounds are loose
-    (Keva tower-24 seed 6: 0.072 of the mass left below a large unrefined subtree, no
-    path above 1.4e-6), the search alone ran out of pops before any leaf and the engine
-    took the PRG node for exhausted, backtracking for 557 s without refining it."""
-    _, _, prob, cost, refined_prefix, path = start
+def _dive(graph: PolicyGraph, node_cost: NodeCost, b: Bounds, prob: float, cost: float,
+          refined_prefix: bool,
+          path: tuple[int, ...]) -> tuple[float, float, tuple[int, ...]] | None:
+    """A first uncovered path, followed greedily down the best bound from the prefix
+    ``path``: the incumbent that prunes the best-first search, and its answer if the pop
+    budget runs out first. Where the open mass is spread over exponentially many unlikely
+    paths whose bounds are loose (Keva tower-24 seed 6: 0.072 of the mass left below a
+    large unrefined subtree, no path above 1.4e-6), the search alone ran out of pops
+    before any leaf and the engine took the PRG node for exhausted, backtracking for
+    557 s without refining it."""
     while not graph.nodes[path[-1]].is_leaf:
         steps = _extensions(graph, node_cost, b, prob, cost, refined_prefix, path)
         if not steps:
             return None  # only through a node already on the path (a cycle)
-        _, _, prob, cost, refined_prefix, path = min(steps, key=lambda s: s[0])
-    if path_is_covered(graph, path) or not 0 < cost < INF:
-        return None
-    return prob, cost, path
+        _, prob, cost, refined_prefix, path = min(steps, key=lambda s: s[0])
+    return _uncovered(graph, prob, cost, path)
