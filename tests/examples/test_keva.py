@@ -231,6 +231,32 @@ def test_reaches_is_decided_by_the_arm_and_feed_whether_a_plank_waits_or_not():
         world.close()
 
 
+def test_places_says_which_arm_can_put_a_role_once_for_the_run():
+    """The `? predicate places(a, r)` evaluator: on tower-24 seed 2 the right arm cannot
+    put the top plank r47 (it reaches the pose only through the planks under it) and the
+    left can; the answer is the same whatever the draw and wherever the other planks
+    are (decided once: world.memo), the world is left as it was, and a put-down the
+    generator finds is a yes without the evaluator's own search."""
+    world = open_world("pybullet", kv.build("tower", 24, 2), seed=0)
+    try:
+        ctx = Context(world=world, rng=random.Random(0))
+        before = world.snapshot()
+        assert not keva.places(ctx, "right", "r47")
+        assert keva.places(ctx, "left", "r47") and keva.places(ctx, "right", "r46")
+        assert world.snapshot() == before
+        world.memo.clear()  # decided afresh, from another draw: the same answers
+        draw = Context(world=world, rng=random.Random(7))
+        assert [keva.places(draw, a, "r47") for a in ("right", "left")] == [False, True]
+        world.memo.clear()
+        keva.bring(ctx, ConcreteAction("bring", {}, adds=(("waiting", ("feed1",)),)))
+        g, q = next(iter(keva.feed_grasp(ctx, "left", "feed1")))
+        keva.pick(ctx, ConcreteAction("pick", {"a": "left", "q": q, "g": g}, adds=()))
+        assert list(keva.table_place(ctx, "left", "r0", "horizontal"))
+        assert world.memo == {(keva.PLACES, "left", "r0"): True}
+    finally:
+        world.close()
+
+
 def _clear_puts(world, ctx: Context, arm: str, role: st.Role) -> list[bool]:
     """For each put config the generator yields for ``arm`` (holding a fresh plank from
     feed 1): whether a trajectory to it exists that touches no plank."""

@@ -17,6 +17,7 @@ that order; a put-down gives the body in the hand a *role* of the structure.
 - ``.keva:motion(a, q)`` — the stdlib motion generator for arm ``a``;
 - ``.keva:blocked(t)`` — evaluator: trajectory ``t`` hits a plank;
 - ``.keva:reaches(a, f)`` — evaluator: arm ``a`` has a top grasp of a plank at feed ``f``;
+- ``.keva:places(a, r)`` — evaluator: arm ``a`` can put a plank at role ``r``'s pose;
 - ``.keva:bring`` — the next supply plank arrives at the outcome's feed;
 - ``.keva:pick`` — hold the plank at its grasp's nominal grip;
 - ``.keva:put`` — let go: the plank is set at its role's pose (the IK error of the hand,
@@ -46,6 +47,7 @@ AT_TOL = 0.01  # m: a body within this of a feed or role position is there
 BUFFER = "buffer"  # the domain's hand-over spot (a feed both arms reach)
 FEED_IK_RESTARTS = 20  # the domain's feed_grasp option (the reaches evaluator matches it)
 REACH_ROUNDS = 3  # independent IK rounds before the reaches evaluator says "no" for good
+PLACES = "keva.places"  # world.memo key of the places evaluator's verdicts
 
 
 def _meta(world: PyBulletWorld, section: str, name: str) -> Any:
@@ -125,6 +127,64 @@ def reaches(ctx: Context, a: str, f: str) -> bool:
         world.restore(before)
 
 
+def places(ctx: Context, a: str, r: str) -> bool:
+    """Evaluator: whether arm ``a`` can put a plank at role ``r``'s target pose clear of
+    the planks under it. A `? predicate`, so the answer must hold in every state, and a
+    "no" is for good (the engine bans the arm's put-downs of ``r`` everywhere and plans
+    hand-overs instead): at the top of a tall tower one arm may reach the pose only
+    through the planks below (Keva tower-24 seed 2: the right arm touched a plank in
+    every one of 96 IK configs of the top plank, from random starts). Decided once per
+    run (``world.memo``) on a scene of its own: only the planks ``r`` rests on, down to
+    the table, at their target poses (they are in place whenever ``r`` can be put; other
+    planks only add obstacles), the rest out of the way, the plank held by either top
+    grip; "no" only when ``REACH_ROUNDS`` independent rounds of the put-down
+    generator's IK (keva_puts.put_configs) find no clear config for either grip."""
+    world = manipulation._world(ctx, a)
+    key = (PLACES, a, r)
+    if key not in world.memo:
+        world.memo[key] = _places(ctx, world, a, r)
+    return bool(world.memo[key])
+
+
+def _places(ctx: Context, world: PyBulletWorld, a: str, r: str) -> bool:
+    role = _meta(world, "roles", r)
+    under = _resting_on(world, r)
+    names = [n for n, _ in world.state.poses]
+    if len(names) <= len(under):
+        return False  # no plank left to hold: the structure cannot have r either
+    held = names[len(under)]
+    poses = tuple((n, role_pose(world, under[i]) if i < len(under) else
+                   Pose((10.0 + 0.2 * i, 10.0, 0.0))) for i, n in enumerate(names))
+    turns = UPRIGHT_TURNS if role["orientation"] == "vertical" else ()
+    seeds = [ctx.rng.random() for _ in range(REACH_ROUNDS)]
+    before = world.snapshot()
+    try:
+        for yaw in (0.0, math.pi):
+            grip = top_grasp(world.geometry[held], yaw, depth=GRASP_DEPTH).hand.inverse()
+            for i, seed in enumerate(seeds):
+                world.select(a)
+                world.update(poses=poses, q=tuple(world.model.rest), held=held, grip=grip,
+                             retreat=None, released=None)
+                rounds = (f"keva-places:{r}:{yaw}:{i}", random.Random(seed))
+                if next(put_configs(world, a, role_pose(world, r), rounds, turns), None):
+                    return True
+        return False
+    finally:
+        world.restore(before)
+
+
+def _resting_on(world: PyBulletWorld, r: str) -> list[str]:
+    """The roles ``r`` rests on, directly or not (down to the table), lowest first."""
+    out: list[str] = []
+    todo = list(_meta(world, "roles", r)["supports"])
+    while todo:
+        s = todo.pop()
+        if s not in out:
+            out.append(s)
+            todo.extend(_meta(world, "roles", s)["supports"])
+    return sorted(out, key=lambda s: (_meta(world, "roles", s)["level"], s))
+
+
 def aside_place(ctx: Context, a: str) -> Iterator[tuple[Pose, Config]]:
     """The buffer spot (lying flat, either way round) for the plank in arm ``a``."""
     world = manipulation._world(ctx, a)
@@ -155,7 +215,10 @@ def _put(ctx: Context, a: str, r: str, o: str,
     if any(body_at(world, role_pose(world, s)) is None for s in supports):
         return  # a support is not where the structure has it
     turns = UPRIGHT_TURNS if o == "vertical" else ()
-    yield from put_configs(world, a, role_pose(world, r), (f"keva-place:{r}", ctx.rng), turns)
+    for found in put_configs(world, a, role_pose(world, r), (f"keva-place:{r}", ctx.rng), turns):
+        # a clear put here is one with only r's supports in place too: ``places`` says yes
+        world.memo[(PLACES, a, r)] = True
+        yield found
 
 
 def motion(ctx: Context, a: str, q: Config) -> Iterator[tuple[Traj]]:

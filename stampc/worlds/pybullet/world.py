@@ -48,6 +48,9 @@ class PyBulletWorld:
             self.close()  # never leak a client when the scene cannot be built
             raise
         self.checks = 0  # collision checks performed (for benchmarks)
+        #: answers bound functions computed once for the whole run: geometry no action
+        #: changes (a `? predicate` evaluator's verdict); never part of a snapshot
+        self.memo: dict[tuple, object] = {}
 
     # ------------------------------------------------------------------ building
     def _build(self, spec: SceneSpec) -> None:
