@@ -244,9 +244,14 @@ def test_places_says_which_arm_can_put_a_role_once_for_the_run():
         assert not keva.places(ctx, "right", "r47")
         assert keva.places(ctx, "left", "r47") and keva.places(ctx, "right", "r46")
         assert world.snapshot() == before
-        world.memo.clear()  # decided afresh, from another draw: the same answers
-        draw = Context(world=world, rng=random.Random(7))
-        assert [keva.places(draw, a, "r47") for a in ("right", "left")] == [False, True]
+        # decided afresh from other draws: the same answers, also for a role the right
+        # arm reaches clear of the planks only from far-from-rest IK starts (r22: with
+        # near-rest starts alone, 3 of 6 draws said no)
+        for seed in (3, 7):
+            world.memo.clear()
+            draw = Context(world=world, rng=random.Random(seed))
+            assert [keva.places(draw, a, "r47") for a in ("right", "left")] == [False, True]
+            assert keva.places(draw, "right", "r22")
         world.memo.clear()
         keva.bring(ctx, ConcreteAction("bring", {}, adds=(("waiting", ("feed1",)),)))
         g, q = next(iter(keva.feed_grasp(ctx, "left", "feed1")))

@@ -26,6 +26,9 @@ PRE_IK = IkSettings(restarts=8)  # the approach's start needs no accuracy
 #: rounds of IK over the put pose's variants for configs clear of the planks: the first
 #: from the rest config, the others from within NEAR_REST rad of it
 PUT_TRIES, NEAR_REST = 4, 0.5
+#: rounds (one IK try per variant each) from starts anywhere in the joint ranges, after
+#: the near-rest ones found nothing
+WIDE_ROUNDS = 3
 HOME_RESOLUTION = 0.05  # rad: the way-home check that orders put configs
 #: rotations mapping a box onto itself (identity, half turns about its axes)
 SYMMETRIES = (Pose((0.0, 0.0, 0.0)),
@@ -39,7 +42,8 @@ UPRIGHT_TURNS = tuple(Pose((0.0, 0.0, 0.0), quat_from_axis_angle((1.0, 0.0, 0.0)
 
 
 def put_configs(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, random.Random],
-                turns: tuple[Pose, ...] = ()) -> Iterator[tuple[Pose, Config]]:
+                turns: tuple[Pose, ...] = (), wide: int = WIDE_ROUNDS
+                ) -> Iterator[tuple[Pose, Config]]:
     """Configs of arm ``a`` putting its plank at ``target`` up to the box's symmetry
     (and the extra ``turns``), each touching no plank at the put or along its vertical
     approach. IK first draws from an RNG seeded by ``seeds[0]`` and the arm — same
@@ -47,34 +51,52 @@ def put_configs(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, ra
     the call's own RNG ``seeds[1]`` with more restarts (a retry of the engine then draws
     fresh samples). Each RNG first tries IK from the rest config for every variant, and
     only if none is clear, from configs near rest (``PUT_TRIES`` rounds, only for the
-    variants IK reached); a round's configs come in the order of :func:`_preference`."""
+    variants IK reached); then ``wide`` rounds from starts anywhere in the joint ranges
+    (near the top of a tall tower the configs clear of the planks below may be far from
+    rest: 6-19 % of wide starts where the near-rest rounds found none). A round's
+    configs come in the order of :func:`_preference`."""
     state = world.state
     if state.held is None or state.grip is None:
         return
     variants = SYMMETRIES + tuple(t.multiply(s) for t in turns for s in SYMMETRIES[:2])
-    robot, base = manipulation._owner(world)
     for rng, ik in ((random.Random(f"{seeds[0]}:{a}"), PLACE_IK), (seeds[1], RETRY_IK)):
         live = variants  # variants IK reached in the last round: only those are retried
         for attempt in range(PUT_TRIES):
-            found: list[tuple[tuple[bool, bool, float], Pose, Config]] = []
-            reached = []
-            for sym in live:
-                p = target.multiply(sym)
-                raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
-                hand = raised.multiply(state.grip.inverse())
-                world.select(a)
-                seed_q = _near_rest(world, rng) if attempt else None
-                q, pre = _clear_put_config(world, hand, rng, ik, seed_q)
-                world.set_arm(state.q)
-                if q is not None:
-                    reached.append(sym)
-                if q is not None and pre is not None:
-                    c = Config.of(q, obj=state.held, pre=pre, robot=robot, base=base)
-                    found.append((_preference(world, p, c, sym in SYMMETRIES), p, c))
+            found, reached = _put_round(world, a, target, live, rng, ik,
+                                        _near_rest if attempt else None)
             if found:
-                yield from ((p, c) for _, p, c in sorted(found, key=lambda f: f[0]))
+                yield from found
                 return
-            live = tuple(reached)
+            live = reached
+    for _ in range(wide):
+        found, _ = _put_round(world, a, target, variants, seeds[1], PLACE_IK, _anywhere)
+        if found:
+            yield from found
+            return
+
+
+def _put_round(world: PyBulletWorld, a: str, target: Pose, variants: tuple[Pose, ...],
+               rng: random.Random, ik: IkSettings, start
+               ) -> tuple[list[tuple[Pose, Config]], tuple[Pose, ...]]:
+    """One IK try per variant (from ``start(world, rng)``, else from rest): the clear
+    configs found, best first, and the variants IK reached at all."""
+    state = world.state
+    robot, base = manipulation._owner(world)
+    found: list[tuple[tuple[bool, bool, float], Pose, Config]] = []
+    reached = []
+    for sym in variants:
+        p = target.multiply(sym)
+        raised = Pose((p.pos[0], p.pos[1], p.pos[2] + PLACE_CLEARANCE), p.quat)
+        hand = raised.multiply(state.grip.inverse())
+        world.select(a)
+        q, pre = _clear_put_config(world, hand, rng, ik, start(world, rng) if start else None)
+        world.set_arm(state.q)
+        if q is not None:
+            reached.append(sym)
+        if q is not None and pre is not None:
+            c = Config.of(q, obj=state.held, pre=pre, robot=robot, base=base)
+            found.append((_preference(world, p, c, sym in SYMMETRIES), p, c))
+    return [(p, c) for _, p, c in sorted(found, key=lambda f: f[0])], tuple(reached)
 
 
 def _preference(world: PyBulletWorld, p: Pose, c: Config, unturned: bool
@@ -106,6 +128,11 @@ def _bend(world: PyBulletWorld, q: tuple[float, ...]) -> float:
     """How far ``q`` is from the rest config (the largest joint difference, rad)."""
     assert world.model is not None
     return max(abs(v - r) for v, r in zip(q, world.model.rest))
+
+
+def _anywhere(world: PyBulletWorld, rng: random.Random) -> tuple[float, ...]:
+    """An IK start uniform in the joint ranges."""
+    return tuple(rng.uniform(lo, hi) for lo, hi in zip(world.lower, world.upper))
 
 
 def _near_rest(world: PyBulletWorld, rng: random.Random) -> tuple[float, ...]:
