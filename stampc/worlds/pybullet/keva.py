@@ -143,8 +143,8 @@ def places(ctx: Context, a: str, r: str) -> bool:
     planks only add obstacles), the rest out of the way, the plank held by either top
     grip; "no" only when the put-down generator's IK (keva_puts.put_configs), with
     ``PLACES_WIDE_ROUNDS`` rounds from starts anywhere in the joint ranges, finds no
-    clear config for either grip. With 3 rounds from near rest only, the answer for
-    three borderline roles of that tower flipped with the draw (2 of 6 draws said yes)."""
+    clear config for either grip. With 3 rounds from near rest only, the answers for
+    three borderline roles of that tower flipped with the draw (1-3 of 6 draws said yes)."""
     world = manipulation._world(ctx, a)
     key = (PLACES, a, r)
     if key not in world.memo:
@@ -155,12 +155,14 @@ def places(ctx: Context, a: str, r: str) -> bool:
 def _places(ctx: Context, world: PyBulletWorld, a: str, r: str) -> bool:
     role = _meta(world, "roles", r)
     under = _resting_on(world, r)
-    names = [n for n, _ in world.state.poses]
+    in_hands = {arm.held for arm in world.state.arms}  # they stay where they are
+    names = [n for n, _ in world.state.poses if n not in in_hands]
     if len(names) <= len(under):
         return False  # no plank left to hold: the structure cannot have r either
     held = names[len(under)]
-    poses = tuple((n, role_pose(world, under[i]) if i < len(under) else
-                   Pose((10.0 + 0.2 * i, 10.0, 0.0))) for i, n in enumerate(names))
+    placed = {n: role_pose(world, under[i]) if i < len(under) else
+              Pose((10.0 + 0.2 * i, 10.0, 0.0)) for i, n in enumerate(names)}
+    poses = tuple((n, placed.get(n, pose)) for n, pose in world.state.poses)
     turns = UPRIGHT_TURNS if role["orientation"] == "vertical" else ()
     before = world.snapshot()
     try:
