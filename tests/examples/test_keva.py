@@ -234,9 +234,9 @@ def test_reaches_is_decided_by_the_arm_and_feed_whether_a_plank_waits_or_not():
 def test_places_says_which_arm_can_put_a_role_once_for_the_run():
     """The `? predicate places(a, r)` evaluator: on tower-24 seed 2 the right arm cannot
     put the top plank r47 (it reaches the pose only through the planks under it) and the
-    left can; the answer is the same whatever the draw and wherever the other planks
-    are (decided once: world.memo), the world is left as it was, and a put-down the
-    generator finds is a yes without the evaluator's own search."""
+    left can; the answer is the same whatever the draw (and decided once per run:
+    world.memo), the world is left as it was, and a put-down the generator finds is a
+    yes without the evaluator's own search."""
     world = open_world("pybullet", kv.build("tower", 24, 2), seed=0)
     try:
         ctx = Context(world=world, rng=random.Random(0))
