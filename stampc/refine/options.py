@@ -95,8 +95,9 @@ class RefineOptions:
     resample_placers: bool = True
     #: a re-sample with no ancestor generating a value of the failing action is taken
     #: among the achievers of its preconditions first (docs/refine.md). Off by default:
-    #: it solved Keva tower-24 seed 9 (0.0002 → solved in 92 s) but lost cluttered-20
-    #: seed 3 (solved in 422 s → 0.9979 after 2,400 s) and tower-24 seed 2
+    #: it solved Keva tower-24 seed 9 (0.0002 → solved in 92 s; with the keva `places`
+    #: predicate, tower-24 10/10 with it, 9/10 without) but lost cluttered-20 seed 3
+    #: (solved in 422 s → 0.9979 after 2,400 s)
     achievers_first: bool = False
     #: memory bound of the abstract solver's warm tables (states): a re-solve whose
     #: previous tables hold more starts cold (≈2.5 KB per state on the cluttered table)

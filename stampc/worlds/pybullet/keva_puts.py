@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 import random
-from typing import Iterator
+from typing import Callable, Iterator
 
 from stampc.worlds.pybullet import manipulation
 from stampc.worlds.pybullet.kinematics import IkSettings, solve_ik
@@ -75,8 +75,12 @@ def put_configs(world: PyBulletWorld, a: str, target: Pose, seeds: tuple[str, ra
             return
 
 
+#: where an IK try starts: a config drawn from the RNG (None in ``_put_round``: at rest)
+IkStart = Callable[[PyBulletWorld, random.Random], tuple[float, ...]]
+
+
 def _put_round(world: PyBulletWorld, a: str, target: Pose, variants: tuple[Pose, ...],
-               rng: random.Random, ik: IkSettings, start
+               rng: random.Random, ik: IkSettings, start: IkStart | None
                ) -> tuple[list[tuple[Pose, Config]], tuple[Pose, ...]]:
     """One IK try per variant (from ``start(world, rng)``, else from rest): the clear
     configs found, best first, and the variants IK reached at all."""
