@@ -50,8 +50,17 @@ def executed(records: list[Any]) -> str:
     return text
 
 
+def _goal_probability(records: list[Any]) -> str:
+    """The median goal probability and, beside it, the least: a run "solved" by proving
+    its instance a dead end (goal probability 0) must not hide behind a median of 1."""
+    values = [r.goal_probability for r in records if r.goal_probability is not None]
+    if not values:
+        return "—"
+    return f"{_fmt(_median(values), 3)} ({_fmt(min(values), 3)})"
+
+
 def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
-    head = ("| class | runs | solved | executed (success, collisions) | goal prob. (median) | "
+    head = ("| class | runs | solved | executed (success, collisions) | goal prob. median (min) | "
             "median process s | median process CPU s | median engine s | paper solved | "
             "paper avg s | process / paper avg | split |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
@@ -71,7 +80,7 @@ def outcome_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
                  f"dead end {_fmt(_median([r.coverage - r.goal_probability for r in rs]), 3)}")
         lines.append(
             f"| {cls.name} | {len(rs)} | {len(solved)}/{len(rs)} | {executed(rs)} | "
-            f"{_fmt(_median([r.goal_probability for r in rs]), 3)} | {_fmt(med)} | "
+            f"{_goal_probability(rs)} | {_fmt(med)} | "
             f"{_fmt(_median([r.cpu_s for r in solved]))} | "
             f"{_fmt(_median([r.engine_s for r in solved]), 2)} | {paper} | "
             f"{_fmt(cls.paper_time_s, 0)} | {share} | {split} |")

@@ -72,11 +72,7 @@ class Backtracking:
                                 if graph[u].is_leaf):
             return False
         met = self._dead_ends_met[state] = self._dead_ends_met.get(state, 0) + 1
-        if met < after:
-            return False
-        self._notes.append(f"a proven dead end accepted (met {met} times in this abstract "
-                           "state)")
-        return True
+        return met >= after
 
     def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...]) -> Node | None:
         """The refined ancestor (with generated values) to re-sample: among those that

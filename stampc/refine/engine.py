@@ -71,6 +71,10 @@ class Engine(Updating, Backtracking, Reporting):
         self._working: PolicyGraph | None = None
         self._holding: set[int] = {0}
         self._dead_ends_met: dict[int, int] = {}
+        #: nodes whose last concretization took UpdateAbstraction's quick mode, and nodes
+        #: that must search every sample next (``_concretize_quickly``)
+        self._quick_tried: set[int] = set()
+        self._full_search: set[int] = set()
         self.best_prg = 0
         self.best = (-1.0, -1.0)
         self.events: list[ProgressEvent] = []
@@ -258,11 +262,23 @@ class Engine(Updating, Backtracking, Reporting):
             self._notes.append(f"{action.label}: needs the other value of a learned fixed fact")
             return self._update(graph, node, (), "update", path)
         values = path_values(graph, path[:-1], self.initial_values)
-        quick = self.rng.random() < self.options.update_probability
+        quick = self._concretize_quickly(node, self.rng.random())
         result = self.concretizer.concretize(
             action, node.concrete.snapshot, node.concrete.cache, values,
             node_uid=node.uid, attempt=node.attempts, quick=quick)
         return self._integrate(graph, path, result, values)
+
+    def _concretize_quickly(self, node: Node, draw: float) -> bool:
+        """Whether ``node``'s concretization takes UpdateAbstraction's quick mode (the
+        first complete sample only): when ``draw`` < ``update_probability``, except for a
+        node whose quick sample's facts were about to prove a dead end, which searches
+        every sample of its generators first (``Updating._update``)."""
+        quick = draw < self.options.update_probability and node.uid not in self._full_search
+        if quick:
+            self._quick_tried.add(node.uid)
+        else:
+            self._quick_tried.discard(node.uid)
+        return quick
 
     def _integrate(self, graph: PolicyGraph, path: tuple[int, ...], result: Success | Failure,
                    values, snapshots: list | None = None) -> tuple[str, str]:

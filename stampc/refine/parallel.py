@@ -147,7 +147,7 @@ class ParallelEngine(Engine):
             tasks.append(WorkTask(
                 node.action, node.state, node.concrete.snapshot, dict(node.concrete.cache),
                 values, node.uid, node.attempts,
-                mode.random() < self.options.update_probability,
+                self._concretize_quickly(node, mode.random()),
                 tuple((e.successor, e.outcome) for e in node.edges), remaining))
             pending.append((path, node, values))
         replies = self._run(tasks)

@@ -30,6 +30,9 @@ class Updating:
     current: int
     _bans: dict[tuple[int, int], int]
     _notes: list[str]
+    _quick_tried: set[int]
+    _full_search: set[int]
+    _dead_ends_met: dict[int, int]
     _track: "Callable[[int, PolicyGraph], None]"
 
     def _on_failure(self, graph: PolicyGraph, path: tuple[int, ...],
@@ -131,7 +134,20 @@ class Updating:
             self._lift_bans_everywhere()
             return self._update(graph, node, learned, kind, path)
         # only then, and only after the same state met it a few times, is it a dead end
-        failed = no_way and not self._dead_end_for_sure(new_graph, node.uid, state)
+        accepted = no_way and self._dead_end_for_sure(new_graph, node.uid, state)
+        # ... and never on the facts of a quick sample: the first sample of a domino pick
+        # (the same grasp, drawn again at each retry) hit dominoes two places away and
+        # "proved" a row unpickable that every other grasp picked. The node searches
+        # every sample of its generators first; the dead end stands if that fails too.
+        recheck = accepted and bool(learned) and node.uid in self._quick_tried
+        if recheck:
+            self._full_search.add(node.uid)
+            self._notes.append("a dead end on the facts of one quick sample: the node "
+                               "searches every sample before it is accepted")
+        elif accepted:
+            self._notes.append(f"a proven dead end accepted (met "
+                               f"{self._dead_ends_met[state]} times in this abstract state)")
+        failed = no_way and (not accepted or recheck)
         facts, others = fact_labels(self.model, learned), fact_labels(self.model, recalled)
         v = self._add_prg_node(new_graph, node.uid, failed, failed_preconditions=facts,
                                recalled=others,
@@ -139,7 +155,7 @@ class Updating:
         if failed:
             # UpdateAbstraction cannot help: revise an earlier choice on the path first
             # (Alg. 1), then fall back to the PRG's iterative broadening
-            ancestor = self._resample_target(graph, path) if path else None
+            ancestor = self._resample_target(graph, path) if path and not recheck else None
             if ancestor is not None:
                 graph.own(node.uid).attempts += 1  # the failed node draws fresh samples too
                 return self._resample(graph, ancestor, node)

@@ -115,3 +115,18 @@ def test_refine_to_full_coverage_and_replay(tmp_path, k):
         assert all(abs(int(n[1:]) - inst.target) <= k for n in lying)
     # with 40 runs some neighbour must have fallen (P(no topple) = 1/9 or 1/64)
     assert any(a.startswith("notify(") for r in report.runs for a in r.actions)
+
+
+def test_a_dead_end_needs_more_than_one_quick_sample(tmp_path):
+    """n = 40, k = 3, seed 9 (a benchmark instance): with engine seed 9 the target's
+    pick took UpdateAbstraction's quick mode three times and drew the same grasp each
+    time, whose hand hit the dominoes two places away; three "proofs" then made the
+    whole row a dead end (goal probability 0) although other grasps pick it. A dead end
+    now stands only after the failing node searched every sample of its generators."""
+    problem = dom.write_problem(tmp_path / "p.stamp", 40, 3, 9)
+    run = refine_policy([DOMAIN, problem], world="pybullet",
+                        options=RefineOptions(seed=9, time_limit=60, target_coverage=0.999))
+    details = " ".join(e.detail for e in run.result.events)
+    assert "searches every sample" in details  # the quick samples did fail here
+    assert run.result.dead_end_mass == 0.0
+    assert run.result.goal_probability == pytest.approx(1.0)
