@@ -47,7 +47,8 @@ class RefineOptions:
     ban_everywhere_after: int = 3
     #: learned facts that leave only proven dead ends below a node are taken for an
     #: unlucky sample, and ancestors re-sampled, until the same abstract state (facts
-    #: written) has met them this many times; then the dead end is accepted. 0: never.
+    #: written) has met them this many times; then the dead end is accepted — after a
+    #: full search over the node's samples when the last try was a quick one. 0: never.
     #: Without it a drifted UAV with no battery left for any flight was re-sampled for
     #: good (aircraft seed 5: 621 re-draws of the first flight, 0.979 after 600 s).
     accept_dead_end_after: int = 3
