@@ -41,6 +41,9 @@ class Failure:
     violated: tuple[tuple[int, bool], ...]
     sigma: Mapping[str, Any]
     samples: int
+    #: the search stopped at its first complete sample (UpdateAbstraction's quick mode)
+    #: instead of trying every one: ``violated`` speaks for that sample only
+    quick: bool = False
 
 
 class Concretizer:
@@ -155,7 +158,7 @@ class Concretizer:
             self.world.restore(concrete_snapshot)
             ctx = self._context(cache, values, node_uid, attempt, -1)
             return Failure(tuple(self.violations(ctx, action, values)), {}, samples)
-        return Failure(best.violated, best.sigma, samples)
+        return Failure(best.violated, best.sigma, samples, quick)
 
     def _assignments(self, action: GroundAction, snapshot: Any, cache: dict,
                      values: Mapping[str, Any], uid: int, attempt: int, i: int,

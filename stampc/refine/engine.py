@@ -71,9 +71,7 @@ class Engine(Updating, Backtracking, Reporting):
         self._working: PolicyGraph | None = None
         self._holding: set[int] = {0}
         self._dead_ends_met: dict[int, int] = {}
-        #: nodes whose last concretization took UpdateAbstraction's quick mode, and nodes
-        #: that must search every sample next (``_concretize_quickly``)
-        self._quick_tried: set[int] = set()
+        #: nodes that must search every sample next (``_concretize_quickly``)
         self._full_search: set[int] = set()
         self.best_prg = 0
         self.best = (-1.0, -1.0)
@@ -273,12 +271,7 @@ class Engine(Updating, Backtracking, Reporting):
         first complete sample only): when ``draw`` < ``update_probability``, except for a
         node whose quick sample's facts were about to prove a dead end, which searches
         every sample of its generators first (``Updating._update``)."""
-        quick = draw < self.options.update_probability and node.uid not in self._full_search
-        if quick:
-            self._quick_tried.add(node.uid)
-        else:
-            self._quick_tried.discard(node.uid)
-        return quick
+        return draw < self.options.update_probability and node.uid not in self._full_search
 
     def _integrate(self, graph: PolicyGraph, path: tuple[int, ...], result: Success | Failure,
                    values, snapshots: list | None = None) -> tuple[str, str]:

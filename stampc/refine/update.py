@@ -30,7 +30,6 @@ class Updating:
     current: int
     _bans: dict[tuple[int, int], int]
     _notes: list[str]
-    _quick_tried: set[int]
     _full_search: set[int]
     _dead_ends_met: dict[int, int]
     _track: "Callable[[int, PolicyGraph], None]"
@@ -49,7 +48,8 @@ class Updating:
                 return self._resample(graph, placer, node)
             self._ban_no_progress(graph, path, learned)
             recalled = self._recall(node, learned, values)
-            return self._update(graph, node, learned, "update", path, recalled)
+            return self._update(graph, node, learned, "update", path, recalled,
+                                quick=failure.quick)
         node = graph.own(node.uid)
         node.attempts += 1
         if self.rng.random() < self.options.explore_probability:
@@ -107,9 +107,11 @@ class Updating:
                                   node_uid=node.uid, attempt=node.attempts)
 
     def _update(self, graph: PolicyGraph, node: Node, learned, kind: str,
-                path: tuple[int, ...] = (), recalled=()) -> tuple[str, str]:
+                path: tuple[int, ...] = (), recalled=(), quick: bool = False
+                ) -> tuple[str, str]:
         """UpdateAbstraction: write the true facts at ``node`` (``learned`` there, and
-        ``recalled`` from elsewhere), replan below it (new PRG node)."""
+        ``recalled`` from elsewhere), replan below it (new PRG node). ``quick``: the
+        facts come from a quick concretization's one sample (``Failure.quick``)."""
         written = tuple(learned) + tuple(recalled)
         state = self._with_facts(node.state, written)
         forced = None
@@ -124,7 +126,7 @@ class Updating:
         # from an unlucky sample: backtrack rather than accept a dead end
         no_way = not has_way(new_graph, node.uid)
         if no_way and recalled:  # recalled facts never decide a dead end: without them
-            return self._update(graph, node, learned, kind, path)
+            return self._update(graph, node, learned, kind, path, quick=quick)
         if no_way and self._bans_everywhere():
             # the choice that led here (which arm took the plank) may lie above: replan
             # there without the banned actions before giving them up
@@ -132,14 +134,14 @@ class Updating:
             if above is not None:
                 return above
             self._lift_bans_everywhere()
-            return self._update(graph, node, learned, kind, path)
+            return self._update(graph, node, learned, kind, path, quick=quick)
         # only then, and only after the same state met it a few times, is it a dead end
         accepted = no_way and self._dead_end_for_sure(new_graph, node.uid, state)
         # ... and never on the facts of a quick sample: the first sample of a domino pick
         # (the same grasp, drawn again at each retry) hit dominoes two places away and
         # "proved" a row unpickable that every other grasp picked. The node searches
         # every sample of its generators first; the dead end stands if that fails too.
-        recheck = accepted and bool(learned) and node.uid in self._quick_tried
+        recheck = accepted and bool(learned) and quick
         if recheck:
             self._full_search.add(node.uid)
             self._notes.append("a dead end on the facts of one quick sample: the node "
