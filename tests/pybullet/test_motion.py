@@ -121,6 +121,27 @@ def test_blocked_target_falls_back_and_names_blockers(clutter):
         clutter.restore(s0)
 
 
+def test_the_motion_generator_sweep_answers_the_collision_evaluator(clutter):
+    """The evaluator takes the bodies the generator's own check of a trajectory met
+    (every configuration checked once) instead of sweeping it again: exactly what a
+    fresh sweep in the same state finds, for static-only paths through the blockers and
+    for free ones."""
+    scene = cluttered_table(15, seed=1)
+    values = clutter.initial_values()
+    kinds = set()
+    for obj in (scene["meta"]["target"], "can4", "can9"):
+        for _, q in manip.grasp(ctx(clutter, budget=2), obj, values[f"pose_{obj}"]):
+            shared = ctx(clutter, budget=2)  # one context: the concretizer's per-node cache
+            for (traj,) in manip.motion(shared, q):
+                checks = clutter.checks
+                remembered = manip.blocking_objects(shared, traj)
+                assert clutter.checks == checks  # answered without a sweep
+                assert remembered == manip.blocking_objects(ctx(clutter), traj)
+                assert clutter.checks > checks  # the fresh context did sweep
+                kinds.add((traj.static_only, bool(remembered)))
+    assert {(True, True), (False, False)} <= kinds
+
+
 def _hand_xyz(world, q):
     world.set_arm(q)
     return p.getLinkState(world.robot, 8, computeForwardKinematics=True,

@@ -16,8 +16,7 @@ from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context, missing_parameter_hint
 from stampc.worlds.pybullet.kinematics import (IkSettings, grasp_candidates, solve_ik,
                                                top_grasp)
-from stampc.worlds.pybullet.planning import (PlanSettings, PlanStats, counts, plan_trajectory,
-                                             sweep)
+from stampc.worlds.pybullet.planning import PlanSettings, PlanStats, counts, plan_swept, sweep
 from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
                                            as_traj, interpolate, quat_from_yaw, yaw_of)
 from stampc.worlds.pybullet.world import PyBulletWorld
@@ -217,10 +216,12 @@ def motion(ctx: Context, q: Config) -> Iterator[tuple[Traj]]:
                                     ctx.time_left(base.time_limit),  # the run's deadline
                                     static_only, straight=attempt == 0)
             world.select(q.robot)  # other calls may have selected another robot meanwhile
-            traj = plan_trajectory(world, q, ctx.rng, settings, stats)
+            planned = plan_swept(world, q, ctx.rng, settings, stats)
             world.set_arm(world.state.q)
-            if traj is None:
+            if planned is None:
                 break
+            traj, hit = planned
+            ctx.cache.setdefault(_sweep_key(traj), hit)  # what _swept would find here
             if traj not in seen:
                 seen.add(traj)
                 yield (traj,)
@@ -233,12 +234,18 @@ def _swept(ctx: Context, t: Traj) -> frozenset[int]:
     """Every body trajectory ``t`` (its robot and held object) hits, swept once per
     trajectory and state at fine resolution (the task's own contacts excepted only where
     :func:`~.planning.bad_bodies` says so)."""
-    key = ("sweep", t)
+    key = _sweep_key(t)
     if key not in ctx.cache:
         world = _world(ctx, t.robot)
         ctx.cache[key] = sweep(world, t)
         world.set_arm(world.state.q)
     return ctx.cache[key]
+
+
+def _sweep_key(t: Traj) -> tuple:
+    """``ctx.cache`` key of the bodies ``t`` hits in the context's state (the motion
+    generator stores what its own check of ``t`` met; :func:`_swept` computes it)."""
+    return ("sweep", t)
 
 
 def blocking_objects(ctx: Context, t: Traj) -> frozenset[str]:
