@@ -26,6 +26,7 @@ def _check_reductions(model, unit: bool) -> int:
     its parent s's clearable facts) for every next state t; returns how many differ."""
     relevance = Relevance(model)
     values = reference_values(model, D, unit_cost=unit)
+    from_reduced: dict[int, float] = {}  # V* from each reduced state, solved once
     reduced = 0
     for s in reachable_states(model):
         pairs = [(s, relevance.canonical(s))]
@@ -39,7 +40,9 @@ def _check_reductions(model, unit: bool) -> int:
             assert c & ~t == 0  # facts are only cleared
             if c != t:
                 reduced += 1
-                assert _value_from(model, c, unit) == pytest.approx(values[t], abs=1e-7), (t, c)
+                if c not in from_reduced:
+                    from_reduced[c] = _value_from(model, c, unit)
+                assert from_reduced[c] == pytest.approx(values[t], abs=1e-7), (t, c)
     return reduced
 
 
