@@ -54,6 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--achievers-first", action="store_true",
                         help="re-sample the steps that made the failing action's "
                              "preconditions true before other ancestors (docs/refine.md)")
+    parser.add_argument("--selection", default="unlocked", choices=("unlocked", "path"),
+                        help="which uncovered path to refine next: the one that adds the "
+                             "most coverage per estimated cost (default), or the paper's "
+                             "best path probability per cost (docs/refine.md)")
     parser.add_argument("--solve-work-limit", type=positive_int, default=None, metavar="N",
                         help="cap on one abstract solve's work, in units of about one "
                              "heuristic evaluation (default: about 10 s of a 25-can "
@@ -101,6 +105,7 @@ def run(args: argparse.Namespace) -> int:
         solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
         resample_placers=not args.no_resample_placers,
         achievers_first=args.achievers_first,
+        selection=args.selection,
         adaptive_solve_cap=not args.fixed_solve_cap,
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability

@@ -40,6 +40,7 @@ from stampc.refine.planner import AbstractPlanner
 from stampc.refine.recall import FactMemory
 from stampc.refine.reporting import THRESHOLDS, Reporting
 from stampc.refine.selection import select_path, tracked_bounds
+from stampc.refine.unlocking import select_unlocking
 from stampc.refine.update import Updating
 from stampc.worlds.bindings import ResolvedBindings
 
@@ -190,8 +191,13 @@ class Engine(Updating, Backtracking, Reporting):
         return graph
 
     def _select(self, graph: PolicyGraph):
-        """The best uncovered path (selection.py); the bounds are kept on the graph (ĉ
-        depends on the node and the horizon only)."""
+        """The best uncovered path: by the mass it unlocks (unlocking.py), or by its
+        probability (selection.py; also on cyclic graphs). The values are kept on the
+        graph (ĉ depends on the node and the horizon only)."""
+        if self.options.selection == "unlocked":
+            found = select_unlocking(graph, self._node_cost, self.horizon)
+            if found is not False:
+                return found
         return select_path(graph, self._node_cost,
                            bounds=tracked_bounds(graph, self._node_cost, self.horizon))
 

@@ -19,6 +19,8 @@ SOLVE_WORK_LIMIT = 100_000
 #: ... except in the continuation of a solve that hit its cap (cluttered-40 seed 0 at
 #: 180 s: coverage 0.47 with partial solves, 0.0 with full ones that never fit)
 TIMEOUT_PRUNE_PROBABILITY = 0.05
+#: path selection rules (``RefineOptions.selection``)
+SELECTIONS = ("unlocked", "path")
 
 
 @dataclass(frozen=True)
@@ -100,6 +102,11 @@ class RefineOptions:
     #: predicate, tower-24 10/10 with it, 9/10 without) but lost cluttered-20 seed 3
     #: (solved in 422 s → 0.9979 after 2,400 s)
     achievers_first: bool = False
+    #: which uncovered path is refined next: "unlocked" — the one whose refinement adds
+    #: the most coverage per estimated cost (stampc/refine/unlocking.py); "path" — the
+    #: paper's best path probability per cost (selection.py), which takes a branch whose
+    #: continuations are already refined no earlier than a lone path of its probability
+    selection: str = "unlocked"
     #: memory bound of the abstract solver's warm tables (states): a re-solve whose
     #: previous tables hold more starts cold (≈2.5 KB per state on the cluttered table)
     warm_state_limit: int | None = 400_000
@@ -153,6 +160,9 @@ def check_refine_options(options: RefineOptions) -> None:
     if options.warm_state_limit is not None and options.warm_state_limit < 1:
         problems.append(error("R003", "warm_state_limit must be positive or None, got "
                               f"{options.warm_state_limit}", span))
+    if options.selection not in SELECTIONS:
+        problems.append(error("R003", f"selection must be one of {', '.join(SELECTIONS)}, got "
+                              f"{options.selection!r}", span))
     if options.horizon is not None and options.horizon < 1:
         problems.append(error("R003", f"horizon must be at least 1, got {options.horizon}",
                               span))

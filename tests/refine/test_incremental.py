@@ -13,6 +13,8 @@ import stampc
 from stampc.refine import Engine, RefineOptions
 from stampc.refine.graph import (DEAD_END, GOAL, HORIZON, Edge, Node, PolicyGraph, adopt,
                                  coverage_and_goal, detach_subtree, tracked_coverage_and_goal)
+from stampc.refine.incremental import IncrementalValues
+from stampc.refine.unlocking import unlock_local
 from stampc.refine.selection import (_swept_bounds, path_bounds, select_path,
                                      tracked_bounds)
 from stampc.worlds.bindings import resolve_model
@@ -197,13 +199,21 @@ class CheckedEngine(Engine):
     """The engine, checking its kept bounds and masses against scratch at every step."""
 
     checks = 0
+    unlocking_checks = 0  # the unlocked-mass values (unlocking.py), on acyclic graphs
 
     def _select(self, graph):
         kept = tracked_bounds(graph, self._node_cost, self.horizon).values
         fresh = path_bounds(graph, self._node_cost).values
         assert {u: kept[u] for u in fresh} == fresh
         self.checks += 1
-        return super()._select(graph)
+        selected = super()._select(graph)
+        kept_unlocking = graph.caches.get("unlocking")
+        fresh_unlocking = IncrementalValues(unlock_local(self._node_cost))
+        if kept_unlocking is not None and fresh_unlocking.refresh(graph):  # acyclic
+            self.unlocking_checks += 1
+            assert {u: kept_unlocking[1].values[u] for u in fresh_unlocking.values} \
+                == fresh_unlocking.values
+        return selected
 
     def _track(self, prg_node, graph):
         assert tracked_coverage_and_goal(graph) == coverage_and_goal(graph)
@@ -232,3 +242,4 @@ def test_the_engine_keeps_them_right_on_real_runs(files, world, options, tmp_pat
     finally:
         w.close()
     assert engine.checks > 3 and engine.result().coverage > 0.0
+    assert engine.unlocking_checks > 0

@@ -1,0 +1,104 @@
+"""Path selection by unlocked mass (stampc/refine/unlocking.py), against brute force."""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+
+from stampc.refine.graph import DEAD_END, GOAL, HORIZON, coverage
+from stampc.refine.selection import select_path
+from stampc.refine.unlocking import select_unlocking
+
+from test_graph import build, random_tree
+
+
+def costs(table: dict[int, float]):
+    """ĉ as the engine gives it: refined nodes and covered leaves 0, open leaves (a
+    horizon, an unproven dead end) and unrefined actions their cost from ``table``."""
+    return lambda n: 0.0 if n.refined or n.terminal else table[n.uid]
+
+
+def test_a_branch_whose_continuations_are_refined_goes_first():
+    """B (0.2 of the mass, cost 1) covers both its refined continuations at once: it adds
+    0.2. D adds 0.12 for the same cost. p/ĉ sees B's paths one by one (0.1 each) and
+    takes D first; selection by unlocked mass takes B."""
+    g = build({0: ("act", True, [(0.8, 1), (0.2, 2)]),
+               1: ("act", True, [(0.85, 3), (0.15, 4)]), 3: ("leaf", GOAL),
+               4: ("act", False, [(1.0, 5)]), 5: ("leaf", GOAL),
+               2: ("act", False, [(0.5, 6), (0.5, 7)]),
+               6: ("act", True, [(1.0, 8)]), 7: ("act", True, [(1.0, 9)]),
+               8: ("leaf", GOAL), 9: ("leaf", GOAL)})
+    cost = costs({2: 1.0, 4: 1.0})
+    assert select_path(g, cost)[2] == (0, 1, 4, 5)
+    gain, c, path = select_unlocking(g, cost, "k")
+    assert path == (0, 2) and c == 1.0
+    assert gain == pytest.approx(0.2)
+
+
+def _refined_along(spec: dict, path: tuple[int, ...]) -> dict:
+    """``spec`` with every action on ``path`` refined and its open leaf made a goal (the
+    optimistic count both selections use for a leaf still to extend)."""
+    out = dict(spec)
+    for uid in path:
+        item = out[uid]
+        if item[0] == "act":
+            out[uid] = ("act", True, item[2])
+        elif item[1] in (HORIZON, DEAD_END):  # unproven: open, extended to the goal
+            out[uid] = ("leaf", GOAL)
+    return out
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_gain_is_the_coverage_the_path_adds(seed):
+    """On trees the reported gain is exactly what refining the path's nodes (and
+    extending its open leaf) adds to the coverage; on a refined prefix the choice is
+    the best gain per ĉ over all paths (brute force)."""
+    rng = random.Random(seed)
+    for _ in range(40):
+        spec = random_tree(rng, 25, 0.5)
+        table = {uid: float(rng.randint(1, 9)) for uid in spec}
+        g = build(spec)
+        cost = costs(table)
+        found = select_unlocking(g, cost, "k")
+        before = coverage(g)
+        if found is None:
+            assert all(coverage(build(_refined_along(spec, path))) == pytest.approx(before)
+                       for _, path in _leaf_paths(g))
+            continue
+        gain, c, path = found
+        assert gain > 0
+        assert coverage(build(_refined_along(spec, path))) - before == pytest.approx(gain)
+        assert c == pytest.approx(sum(cost(g[u]) for u in path))
+
+
+def _leaf_paths(g):
+    from stampc.refine.graph import iter_leaf_paths
+    return iter_leaf_paths(g)
+
+
+def test_the_root_alone_or_a_refined_prefix_chooses_the_best_ratio():
+    """Below a refined root the gains add up without interaction: the choice is the
+    brute-force best gain / ĉ among the root's one-step branches."""
+    rng = random.Random(3)
+    for _ in range(30):
+        k = rng.randint(2, 5)
+        weights = [rng.random() + 0.05 for _ in range(k)]
+        spec = {0: ("act", True, [(w / sum(weights), i + 1) for i, w in enumerate(weights)])}
+        for i in range(k):
+            spec[i + 1] = ("act", False, [(1.0, 100 + i)])
+            spec[100 + i] = ("leaf", GOAL)
+        table = {i + 1: float(rng.randint(1, 9)) for i in range(k)}
+        g = build(spec)
+        gain, c, path = select_unlocking(g, costs(table), "k")
+        best = max(spec[0][2][i][0] / table[i + 1] for i in range(k))
+        assert gain / c == pytest.approx(best)
+        assert len(path) == 2  # stops at the unrefined branch: its goal is covered with it
+
+
+def test_nothing_to_gain_and_cycles():
+    covered = build({0: ("act", True, [(1.0, 1)]), 1: ("leaf", GOAL)})
+    assert select_unlocking(covered, costs({}), "k") is None
+    cyclic = build({0: ("act", True, [(0.9, 1), (0.1, 0)]), 1: ("act", False, [(1.0, 2)]),
+                    2: ("leaf", GOAL)})
+    assert select_unlocking(cyclic, costs({1: 1.0}), "k") is False  # p/ĉ decides there
