@@ -38,6 +38,8 @@ class IncrementalValues:
         #: frozen, so that a copy can share them
         self._parents: dict[int, frozenset[int]] = {}
         self._acyclic: bool | None = None  # None: not built yet
+        #: nodes with more than one parent (where branches of the policy meet again)
+        self._merged: set[int] = set()
 
     def refresh(self, graph: "PolicyGraph") -> bool:
         """Bring the values up to date with ``graph``; False if it has a cycle (then no
@@ -78,6 +80,13 @@ class IncrementalValues:
             values[uid] = local(graph.nodes[uid], values)
         return values
 
+    def merges(self, graph: "PolicyGraph") -> bool:
+        """Whether some node of ``graph`` has several parents in it (as of the last
+        refresh; a parent pruned from the graph no longer counts)."""
+        nodes = graph.nodes
+        return any(uid in nodes and sum(p in nodes for p in self._parents[uid]) > 1
+                   for uid in self._merged)
+
     def ancestors(self, uids: set[int], graph: "PolicyGraph") -> set[int]:
         """``uids`` and every node above them (parents as of the last refresh)."""
         seen = set(uids)
@@ -94,6 +103,7 @@ class IncrementalValues:
         self.pending = set()
         self._acyclic = acyclic
         self.values, self._children, self._parents = {}, {}, {}
+        self._merged = set()
         if not acyclic:
             return False
         for uid in order:
@@ -108,6 +118,7 @@ class IncrementalValues:
         self.values = {u: v for u, v in self.values.items() if u in live}
         self._children = {u: c for u, c in self._children.items() if u in live}
         self._parents = {u: p for u, p in self._parents.items() if u in live}
+        self._merged &= self._parents.keys()
 
     def _relink(self, uid: int, node: "Node") -> None:
         """Record ``node``'s current children (and it as their parent)."""
@@ -118,8 +129,12 @@ class IncrementalValues:
         parents = self._parents
         for child in set(old) - set(new):
             parents[child] = parents.get(child, frozenset()) - {uid}
+            if len(parents[child]) < 2:
+                self._merged.discard(child)
         for child in set(new) - set(old):
             parents[child] = parents.get(child, frozenset()) | {uid}
+            if len(parents[child]) > 1:
+                self._merged.add(child)
 
     def _children_first(self, affected: set[int], graph: "PolicyGraph") -> list[int] | None:
         """``affected`` ordered children first (Kahn), or None when they contain a cycle

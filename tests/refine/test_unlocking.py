@@ -8,7 +8,7 @@ import pytest
 
 from stampc.refine.graph import DEAD_END, GOAL, HORIZON, coverage
 from stampc.refine.selection import select_path
-from stampc.refine.unlocking import select_unlocking
+from stampc.refine.unlocking import best_unlocking, select_unlocking
 
 from test_graph import build, random_tree
 
@@ -20,11 +20,11 @@ def costs(table: dict[int, float]):
 
 
 def test_a_branch_whose_continuations_are_refined_goes_first():
-    """B (0.2 of the mass, cost 1) covers both its refined continuations at once: it adds
-    0.2. D adds 0.12 for the same cost. p/ĉ sees B's paths one by one (0.1 each) and
-    takes D first; selection by unlocked mass takes B."""
+    """B (0.2 of the mass, cost 1) covers both its refined continuations at once, one of
+    them shared with A: it adds 0.2. D adds 0.12 for the same cost. p/ĉ sees B's paths
+    one by one (0.1 each) and takes D first; selection by unlocked mass takes B."""
     g = build({0: ("act", True, [(0.8, 1), (0.2, 2)]),
-               1: ("act", True, [(0.85, 3), (0.15, 4)]), 3: ("leaf", GOAL),
+               1: ("act", True, [(0.85, 6), (0.15, 4)]),
                4: ("act", False, [(1.0, 5)]), 5: ("leaf", GOAL),
                2: ("act", False, [(0.5, 6), (0.5, 7)]),
                6: ("act", True, [(1.0, 8)]), 7: ("act", True, [(1.0, 9)]),
@@ -34,6 +34,19 @@ def test_a_branch_whose_continuations_are_refined_goes_first():
     gain, c, path = select_unlocking(g, cost, "k")
     assert path == (0, 2) and c == 1.0
     assert gain == pytest.approx(0.2)
+
+
+def test_trees_are_left_to_p_over_c():
+    """Without merged branches the exact p/ĉ search decides (False), even where the
+    sweep would refine the same node (it stops at the unrefined branch, whose goal is
+    covered with it; p/ĉ's path goes on to the leaf)."""
+    g = build({0: ("act", True, [(0.6, 1), (0.4, 2)]),
+               1: ("act", False, [(1.0, 3)]), 2: ("act", False, [(1.0, 4)]),
+               3: ("leaf", GOAL), 4: ("leaf", GOAL)})
+    cost = costs({1: 10.0, 2: 2.0})
+    assert select_unlocking(g, cost, "k") is False
+    assert best_unlocking(g, cost, "k")[2] == (0, 2)
+    assert select_path(g, cost)[2] == (0, 2, 4)
 
 
 def _refined_along(spec: dict, path: tuple[int, ...]) -> dict:
@@ -60,7 +73,7 @@ def test_the_gain_is_the_coverage_the_path_adds(seed):
         table = {uid: float(rng.randint(1, 9)) for uid in spec}
         g = build(spec)
         cost = costs(table)
-        found = select_unlocking(g, cost, "k")
+        found = best_unlocking(g, cost, "k")
         before = coverage(g)
         if found is None:
             assert all(coverage(build(_refined_along(spec, path))) == pytest.approx(before)
@@ -90,7 +103,7 @@ def test_the_root_alone_or_a_refined_prefix_chooses_the_best_ratio():
             spec[100 + i] = ("leaf", GOAL)
         table = {i + 1: float(rng.randint(1, 9)) for i in range(k)}
         g = build(spec)
-        gain, c, path = select_unlocking(g, costs(table), "k")
+        gain, c, path = best_unlocking(g, costs(table), "k")
         best = max(spec[0][2][i][0] / table[i + 1] for i in range(k))
         assert gain / c == pytest.approx(best)
         assert len(path) == 2  # stops at the unrefined branch: its goal is covered with it
@@ -98,7 +111,40 @@ def test_the_root_alone_or_a_refined_prefix_chooses_the_best_ratio():
 
 def test_nothing_to_gain_and_cycles():
     covered = build({0: ("act", True, [(1.0, 1)]), 1: ("leaf", GOAL)})
-    assert select_unlocking(covered, costs({}), "k") is None
+    assert best_unlocking(covered, costs({}), "k") is None
     cyclic = build({0: ("act", True, [(0.9, 1), (0.1, 0)]), 1: ("act", False, [(1.0, 2)]),
                     2: ("leaf", GOAL)})
     assert select_unlocking(cyclic, costs({1: 1.0}), "k") is False  # p/ĉ decides there
+
+
+def test_an_unknown_selection_rule_is_refused():
+    from stampc.diagnostics import StampcError
+    from stampc.refine import RefineOptions, check_refine_options
+
+    with pytest.raises(StampcError) as err:
+        check_refine_options(RefineOptions(selection="cheapest"))
+    assert {d.code for d in err.value.diagnostics} == {"R003"}
+    check_refine_options(RefineOptions(selection="path"))  # both rules are accepted
+    check_refine_options(RefineOptions(selection="unlocked"))
+
+
+def test_merges_follow_the_graph_as_it_changes():
+    """A node with two parents makes the graph merged; once one parent lets it go (its
+    edges replaced) or is pruned from the graph, it is a tree again."""
+    from test_graph import edge
+
+    g = build({0: ("act", True, [(0.5, 1), (0.5, 2)]),
+               1: ("act", True, [(1.0, 3)]), 2: ("act", False, [(1.0, 3)]),
+               3: ("act", False, [(1.0, 4)]), 4: ("leaf", GOAL), 5: ("leaf", GOAL)})
+    cost = costs({2: 1.0, 3: 1.0})
+    assert select_unlocking(g, cost, "k") is not False
+    g.own(2).edges[:] = [edge(1.0, 5)]  # 2 now goes elsewhere: 3 has one parent
+    g.touch(2)
+    assert select_unlocking(g, cost, "k") is False
+    g.own(2).edges[:] = [edge(1.0, 3)]
+    g.touch(2)
+    assert select_unlocking(g, cost, "k") is not False
+    g.own(0).edges[:] = [edge(1.0, 1)]  # 2 is cut off and pruned
+    g.touch(0)
+    del g.nodes[2]
+    assert select_unlocking(g, cost, "k") is False
