@@ -257,7 +257,8 @@ def test_places_says_which_arm_can_put_a_role_once_for_the_run():
         g, q = next(iter(keva.feed_grasp(ctx, "left", "feed1")))
         keva.pick(ctx, ConcreteAction("pick", {"a": "left", "q": q, "g": g}, adds=()))
         assert list(keva.table_place(ctx, "left", "r0", "horizontal"))
-        assert world.memo == {(keva.PLACES, "left", "r0"): True}
+        decided = {k: v for k, v in world.memo.items() if k[0] == keva.PLACES}
+        assert decided == {(keva.PLACES, "left", "r0"): True}  # (IK answers are kept too)
     finally:
         world.close()
 
