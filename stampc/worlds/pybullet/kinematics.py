@@ -75,7 +75,7 @@ def solve_ik(world: PyBulletWorld, target: Pose, rng: random.Random,
         world.set_arm(first)  # type: ignore[arg-type]
         return first  # type: ignore[return-value]
     drawn: dict = world.memo.setdefault(("ik-drawn",), {})  # type: ignore[assignment]
-    drawn_key = (key, hash(rng.getstate()))
+    drawn_key = (key, hash(rng.getstate()))  # 64 bits: a collision needs ~2^32 entries
     known = drawn.get(drawn_key)
     if known is None:
         known = _solve_ik(world, target, rng, seed_q, settings)
