@@ -9,9 +9,10 @@ would. Prints, per run, the share of the refined nodes after which 50 / 80 / 90 
 mass was covered in that order, beside the share the run itself needed (from
 ``coverage.csv``). A node count is a proxy for time: nodes differ in cost.
 
-It answers whether an anytime target ("80 % of the mass within 30 % of the run") is out of
-reach of the selection rule or of the policy's shape: when even this order needs more than
-30 % of the nodes for 80 %, no selection rule meets it on that policy. Paths are
+It tells whether an anytime target ("80 % of the mass within 30 % of the run") is missed
+because of the selection rule or because of the policy's shape: when even this order needs
+far more than 30 % of the nodes for 80 %, a better rule will not meet it on that policy
+(the greedy order is not a proven optimum, so a margin is needed). Paths are
 enumerated, so policies with more than ``MAX_PATHS`` root-to-leaf paths are skipped.
 """
 
