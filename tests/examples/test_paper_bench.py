@@ -62,3 +62,25 @@ def test_unrefined_executions_of_a_solved_policy_must_be_plausible():
     assert _plausible(0, 20, 0.0) and _plausible(1, 20, 0.001)
     assert not _plausible(2, 20, 0.001) and not _plausible(1, 20, 0.0)
     assert _plausible(3, 20, 0.1)  # a partial policy at 0.9 reaches its gap often
+
+
+def test_the_anytime_oracle_refines_the_most_unlocking_path_first(tmp_path):
+    """bench/anytime_order.py on a hand-made policy: A (0.5) is a chain of three nodes,
+    B (0.5) one node; both end in the same two continuations. Most coverage per node
+    first: B's branch (3 nodes, 0.25), B's other continuation (1 node, 0.25), then A's
+    chain, which the refined continuations make worth 0.5."""
+    sys.path.insert(0, str(REPO / "bench"))
+    try:
+        from anytime_order import greedy_order
+    finally:
+        sys.path.remove(str(REPO / "bench"))
+
+    def act(uid, *kids):
+        return {"id": uid, "leaf": None, "refined": True,
+                "outcomes": [{"probability": p, "child": c} for p, c in kids]}
+    goal = {"id": 9, "leaf": "goal"}
+    nodes = [act(0, (0.5, 1), (0.5, 2)), act(1, (1.0, 3)), act(3, (1.0, 4)),
+             act(4, (0.5, 5), (0.5, 6)), act(2, (0.5, 5), (0.5, 6)),
+             act(5, (1.0, 9)), act(6, (1.0, 9)), goal]
+    steps = greedy_order({"root": 0, "nodes": nodes})
+    assert steps == [(3, 0.25), (4, 0.5), (7, 1.0)]
