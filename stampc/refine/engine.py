@@ -25,7 +25,7 @@ import math
 import random
 import time
 from dataclasses import replace
-from typing import Any, Iterator
+from typing import Any, Iterable, Iterator
 
 import networkx as nx
 
@@ -39,7 +39,7 @@ from stampc.refine.options import ProgressEvent, RefineOptions
 from stampc.refine.planner import AbstractPlanner
 from stampc.refine.recall import FactMemory
 from stampc.refine.reporting import THRESHOLDS, Reporting
-from stampc.refine.selection import select_path, tracked_bounds
+from stampc.refine.selection import NodeCost, select_path, tracked_bounds
 from stampc.refine.unlocking import select_unlocking
 from stampc.refine.update import Updating
 from stampc.worlds.bindings import ResolvedBindings
@@ -190,16 +190,19 @@ class Engine(Updating, Backtracking, Reporting):
         self._working = graph
         return graph
 
-    def _select(self, graph: PolicyGraph):
-        """The best uncovered path: by the mass it unlocks (unlocking.py), or by its
-        probability (selection.py; also on cyclic graphs). The values are kept on the
-        graph (ĉ depends on the node and the horizon only)."""
+    def _select(self, graph: PolicyGraph, cost: NodeCost | None = None,
+                changed: Iterable[int] = ()):
+        """The best uncovered path: by the mass it unlocks (unlocking.py) where branches
+        merge, else by its probability (selection.py). The values are kept on the graph
+        (ĉ depends on the node and the horizon only); ``cost`` differing from ĉ on the
+        ``changed`` nodes only (a parallel batch's taken ones) is computed aside."""
+        cost = cost or self._node_cost
         if self.options.selection == "unlocked":
-            found = select_unlocking(graph, self._node_cost, self.horizon)
+            found = select_unlocking(graph, cost, self.horizon, changed)
             if found is not False:
                 return found
-        return select_path(graph, self._node_cost,
-                           bounds=tracked_bounds(graph, self._node_cost, self.horizon))
+        return select_path(graph, cost,
+                           bounds=tracked_bounds(graph, cost, self.horizon, changed))
 
     def _act(self, graph: PolicyGraph, selected) -> tuple[str, str]:
         """Work on the selected path: extend its open leaf or refine its first unrefined action."""

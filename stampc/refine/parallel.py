@@ -34,8 +34,6 @@ from stampc.ir.grounded import GroundModel
 from stampc.refine.engine import Engine
 from stampc.refine.graph import Concrete, Node, PolicyGraph, path_values
 from stampc.refine.options import RefineOptions, RefineResult
-from stampc.refine.selection import select_path, tracked_bounds
-from stampc.refine.unlocking import select_unlocking
 from stampc.refine.workers import WorkReply, WorkTask, handle_task
 from stampc.worlds.bindings import ResolvedBindings
 
@@ -128,22 +126,12 @@ class ParallelEngine(Engine):
 
         out: list[tuple[int, ...]] = []
         while len(out) < self.workers - 1:
-            path = _refinable_prefix(graph, self._select_besides(graph, cost, taken))
+            path = _refinable_prefix(graph, self._select(graph, cost, changed=taken))
             if path is None or path[-1] in taken:
                 break
             taken.add(path[-1])
             out.append(path)
         return out
-
-    def _select_besides(self, graph: PolicyGraph, cost, taken: set[int]):
-        """The engine's selection with the taken nodes' cost infinite: the kept values
-        with those nodes changed (only their ancestors move)."""
-        if self.options.selection == "unlocked":
-            found = select_unlocking(graph, cost, self.horizon, changed=taken)
-            if found is not False:
-                return found
-        bounds = tracked_bounds(graph, cost, self.horizon, changed=taken)
-        return select_path(graph, cost, bounds=bounds)
 
     def _dispatch(self, graph: PolicyGraph, paths: list[tuple[int, ...]]) -> None:
         tasks, pending = [], []

@@ -95,9 +95,17 @@ def select_unlocking(graph: PolicyGraph, node_cost: NodeCost, key: Hashable,
     ``changed`` as in ``tracked_bounds``: the values are kept for the key's costs;
     nodes whose cost differs (a parallel batch's taken ones) are computed aside."""
     found = best_unlocking(graph, node_cost, key, changed)
-    if found is False or not graph.caches["unlocking"][1].merges(graph):
+    if found is False or not _kept(graph, node_cost, key).merges(graph):
         return False
     return found
+
+
+def _kept(graph: PolicyGraph, node_cost: NodeCost, key: Hashable) -> IncrementalValues:
+    """The values kept on ``graph`` for the costs named ``key`` (a new key starts afresh)."""
+    tracker = graph.caches.get("unlocking")
+    if tracker is None or tracker[0] != key:
+        tracker = graph.caches["unlocking"] = (key, IncrementalValues(unlock_local(node_cost)))
+    return tracker[1]
 
 
 def best_unlocking(graph: PolicyGraph, node_cost: NodeCost, key: Hashable,
@@ -106,10 +114,7 @@ def best_unlocking(graph: PolicyGraph, node_cost: NodeCost, key: Hashable,
     """:func:`select_unlocking` on any acyclic graph, trees included (False: cyclic).
     The path runs from the root to a leaf, or to an unrefined node whose continuations
     are all covered already."""
-    tracker = graph.caches.get("unlocking")
-    if tracker is None or tracker[0] != key:
-        tracker = graph.caches["unlocking"] = (key, IncrementalValues(unlock_local(node_cost)))
-    kept: IncrementalValues = tracker[1]
+    kept = _kept(graph, node_cost, key)
     if changed:
         v = kept.variant(graph, changed, unlock_local(node_cost))
     else:
