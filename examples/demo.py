@@ -86,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
 outputs:
   problem       {problem}
   IR / PPDDL    {out / 'ir'}, {out / 'ppddl'}
-  policy        {policy_dir / 'policy.json'} (+ policy.svg, coverage.png, summary.json)
+  policy        {policy_dir / 'policy.json'} (+ policy.svg, coverage.svg, summary.json)
   animation     {render_dir / 'run.gif'} (frames: {render_dir}/frame_*.png)
   discard       {discard}""")
     return code

@@ -101,7 +101,7 @@ def refine_policy(files: Sequence[str | Path], *, world: str = "plane2d", option
     gm = ground(model)
     scene = load_scene(model.problem, paths[-1].parent, scene_overrides)
     w = open_world(world, scene, seed=options.seed, verbose=verbose,
-                   origin=scene_origin(model.problem, paths[-1].parent))
+                   origin=scene_origin(model.problem, paths[-1].parent), visuals=False)
     try:
         bindings = resolve_model(model, w.package)
         meta = {"domain": model.domain.name, "problem": model.problem.name, "world": world,
@@ -130,7 +130,8 @@ def _build_worker(spec):
     from stampc.worlds.loading import open_world
 
     model = load_model(_paths(spec.files))
-    world = open_world(spec.world, dict(spec.scene), seed=spec.seed, verbose=spec.verbose)
+    world = open_world(spec.world, dict(spec.scene), seed=spec.seed, verbose=spec.verbose,
+                       visuals=False)
     return ground(model), world, resolve_model(model, world.package)
 
 

@@ -78,7 +78,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scene-arg", action="append", default=[], metavar="KEY=VALUE",
                         help="override a scene-builder argument (repeatable)")
     parser.add_argument("-o", "--output", metavar="DIR", help="write policy.json, coverage.csv, "
-                        "coverage.png, policy.dot, policy.svg, summary.json, prg.json here "
+                        "coverage.svg, policy.dot, policy.svg, summary.json, prg.json here "
                         "(`stampc view DIR` makes an HTML report of them)")
     parser.add_argument("--quiet", action="store_true", help="no progress display")
     parser.add_argument("--verbose", action="store_true", help="let simulators print")
@@ -127,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_INPUT
     if args.output:
         notes = run_.write(Path(args.output))
-        print(f"wrote {args.output}/policy.json, coverage.csv, coverage.png, policy.dot, "
+        print(f"wrote {args.output}/policy.json, coverage.csv, coverage.svg, policy.dot, "
               "policy.svg, summary.json, prg.json" + (", error.txt" if run_.error else ""))
         for note in notes:
             print(f"note: {note}")

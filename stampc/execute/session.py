@@ -45,7 +45,8 @@ def execute_file(path: Path, *, runs: int, seed: int, max_steps: int = 500,
     true_model = build_truth(model, overrides, Span.point("<command line>" if truth
                                                           else str(path)))
     origin = SceneOrigin(Span.point(str(path)), "in the scene stored in this policy")
-    world = open_world(policy["world"], scene, seed=seed, verbose=verbose, origin=origin)
+    world = open_world(policy["world"], scene, seed=seed, verbose=verbose, origin=origin,
+                       visuals=recorder is not None)
     try:
         bindings = resolve_model(model, world.package)
         hooks = _hooks(world, recorder, physics, goal_check_for(world, scene, files[-1].parent),

@@ -1,12 +1,12 @@
-"""Write a refinement run's outputs: policy.json, coverage.csv/.png, policy.dot/.svg,
+"""Write a refinement run's outputs: policy.json, coverage.csv/.svg, policy.dot/.svg,
 summary.json and prg.json (the PRG's history, ``stampc.refine.history``).
 
 policy.json is deterministic for a given seed (no timings in it), so it can be diffed;
 timings live in coverage.csv and summary.json.
 
 Writing stays bounded for large policies: policy.json and policy.dot are linear in the
-graph; policy.svg (a matplotlib drawing, whose cost grows much faster: a 2 MB drawing
-took about a minute) shows at most ``SVG_MAX_NODES`` nodes, those nearest the root, and
+graph; policy.svg (:mod:`.figures`, meant to be read, not searched) shows at most
+``SVG_MAX_NODES`` nodes, those nearest the root, and
 policy.dot at most ``DOT_MAX_NODES``; the rest are collapsed into "+k more" markers and a
 note says so (summary.json ``notes``; the command line prints it).
 """
@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from stampc.ir.grounded import GroundModel, bits
+from stampc.refine.figures import DrawnNode, coverage_svg, policy_svg
 from stampc.refine.graph import PolicyGraph
 from stampc.refine.options import RefineResult
 from stampc.refine.outcomes import outcome_labels
@@ -135,23 +136,10 @@ def write_coverage_csv(result: RefineResult, path: Path) -> None:
                              e.refined_nodes, e.prg_nodes, e.abstract_solves, e.kind])
 
 
-def write_coverage_png(result: RefineResult, path: Path, title: str = "") -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    times = [e.time_s for e in result.events]
-    cov = [e.coverage for e in result.events]
-    fig, ax = plt.subplots(figsize=(6, 3.5), dpi=100)
-    ax.step(times, cov, where="post", label="refined probability mass")
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("coverage")
-    ax.set_ylim(0, 1.02)
-    ax.grid(alpha=0.3)
-    ax.set_title(title or "anytime coverage")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+def write_coverage_svg(result: RefineResult, path: Path, title: str = "") -> None:
+    events = result.events
+    path.write_text(coverage_svg([e.time_s for e in events], [e.coverage for e in events],
+                                 [e.goal_probability for e in events], title))
 
 
 def bounded_view(graph: PolicyGraph, limit: int) -> tuple[list[int], dict[int, int]]:
@@ -175,39 +163,22 @@ def bounded_view(graph: PolicyGraph, limit: int) -> tuple[list[int], dict[int, i
 
 def write_policy_svg(model: GroundModel, graph: PolicyGraph, path: Path,
                      limit: int = SVG_MAX_NODES) -> str | None:
-    """Draw the policy graph by depth with networkx + matplotlib (no Graphviz needed);
-    above ``limit`` nodes the drawing is collapsed. Returns a note when it was."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import networkx as nx
-
+    """Draw the policy graph by depth (refined nodes and goals green); above ``limit``
+    nodes the drawing is collapsed. Returns a note when it was."""
     drawn, hidden = bounded_view(graph, limit)
     kept = set(drawn)
-    g = nx.DiGraph()
+    nodes: list[DrawnNode] = []
+    edges: list[tuple[object, object]] = []
     for uid in drawn:
         node = graph[uid]
-        g.add_node(uid, layer=node.depth,
-                   label=node.leaf if node.is_leaf else model.actions[node.action].name)
-        for e in node.edges:
-            if e.child in kept:
-                g.add_edge(uid, e.child)
+        label = (node.leaf or "leaf") if node.is_leaf else model.actions[node.action].name
+        fill = "palegreen" if node.refined or node.leaf == "goal" else "lightgrey"
+        nodes.append((uid, node.depth, label, fill))
+        edges += [(uid, e.child) for e in node.edges if e.child in kept]
     for uid, count in hidden.items():
-        marker = f"+{uid}"
-        g.add_node(marker, layer=graph[uid].depth + 1, label=f"+{count} more")
-        g.add_edge(uid, marker)
-    pos = nx.multipartite_layout(g, subset_key="layer", align="horizontal", scale=-1)
-    fig, ax = plt.subplots(figsize=(min(60, max(6, len(g) * 0.25)), 6))
-    colors = ["white" if isinstance(u, str) else "palegreen"
-              if graph[u].refined or graph[u].leaf == "goal" else "lightgrey" for u in g]
-    nx.draw_networkx(g, pos, ax=ax, labels=nx.get_node_attributes(g, "label"),
-                     node_color=colors, node_size=300, font_size=6,
-                     arrows=False)  # a LineCollection: arrow patches cost ~40 ms each
-    ax.set_axis_off()
-    fig.subplots_adjust(0.01, 0.01, 0.99, 0.99)  # tight_layout would draw everything twice
-    with matplotlib.rc_context({"svg.fonttype": "none"}):  # <text>, not glyph outlines
-        fig.savefig(path, format="svg")
-    plt.close(fig)
+        nodes.append((f"+{uid}", graph[uid].depth + 1, f"+{count} more", "white"))
+        edges.append((uid, f"+{uid}"))
+    path.write_text(policy_svg(nodes, edges))
     return _collapsed_note(path.name, len(drawn), graph)
 
 
@@ -247,7 +218,7 @@ def write_outputs(out_dir: Path, model: GroundModel, graph: PolicyGraph, result:
     svg_note = write_policy_svg(model, graph, out_dir / "policy.svg")
     notes = [note for note in (dot_note, svg_note) if note]
     write_coverage_csv(result, out_dir / "coverage.csv")
-    write_coverage_png(result, out_dir / "coverage.png", str(meta.get("problem", "")))
+    write_coverage_svg(result, out_dir / "coverage.svg", str(meta.get("problem", "")))
     (out_dir / "summary.json").write_text(json.dumps(summary_json(result, meta, notes), indent=2))
     if history is not None:
         (out_dir / "prg.json").write_text(json.dumps(history, indent=1))

@@ -102,12 +102,14 @@ def scene_origin(problem: Problem, base_dir: Path) -> SceneOrigin | None:
 
 
 def open_world(name: str, scene: Mapping[str, Any], *, seed: int, verbose: bool = False,
-               origin: SceneOrigin | None = None):
+               origin: SceneOrigin | None = None, visuals: bool = True):
     """Instantiate world backend ``name`` on ``scene``; diagnostics about the scene point
-    at ``origin`` (its file and the line of the offending section where it can tell)."""
+    at ``origin`` (its file and the line of the offending section where it can tell).
+    ``visuals=False``: a world that will never render (the refinement's) may skip what
+    only drawing needs."""
     package = importlib.import_module(world_package(name))
     try:
-        return package.open_world(scene, seed=seed, verbose=verbose)
+        return package.open_world(scene, seed=seed, verbose=verbose, visuals=visuals)
     except StampcError as exc:
         if origin is None:
             raise

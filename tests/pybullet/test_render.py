@@ -43,3 +43,22 @@ def test_render_errors_are_diagnostics(world, tmp_path):
         write_gif([], tmp_path / "empty.gif")
     with pytest.raises(StampcError):
         render_frame(world, 0, 10)
+
+
+def test_a_world_without_visuals_collides_alike_and_refuses_to_render(world):
+    """The refinement's worlds skip visual shapes (loading them is most of a Panda's
+    load time): collision verdicts must not change, and drawing must say why it cannot."""
+    bare = open_world(cluttered_table(5, seed=0), seed=0, visuals=False)
+    try:
+        with pytest.raises(StampcError) as info:
+            render_frame(bare, 32, 24)
+        assert info.value.diagnostics[0].code == "PB041"
+        rng = np.random.default_rng(3)
+        hit_configs = 0
+        for _ in range(60):
+            q = tuple(rng.uniform(world.lower, world.upper))
+            assert bare.hits(q) == world.hits(q)
+            hit_configs += bool(world.hits(q)[0])
+        assert 0 < hit_configs < 60  # both kinds of verdict were compared
+    finally:
+        bare.close()

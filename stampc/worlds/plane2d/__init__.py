@@ -21,12 +21,13 @@ __all__ = ["open_world", "Plane2DWorld", "WorldState", "Scene", "parse_scene",
 
 
 def open_world(scene: Mapping[str, Any] | str | Path, *, seed: int,
-               verbose: bool = False) -> Plane2DWorld:
+               verbose: bool = False, visuals: bool = True) -> Plane2DWorld:
     """Build a world from a scene dict (or the path of a JSON scene file).
 
     The world itself is deterministic (every bound function samples from ``ctx.rng``);
     ``seed`` is recorded for reproducibility reports. ``verbose`` prints planning
-    fallbacks to stderr.
+    fallbacks to stderr. ``visuals`` is accepted for the worlds' common signature: this
+    world draws from its state alone, so it can always render.
 
     Raises :class:`StampcError` with ``S2xx`` diagnostics for malformed scenes.
     """

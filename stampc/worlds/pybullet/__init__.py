@@ -19,9 +19,11 @@ __all__ = ["open_world", "PyBulletWorld", "WorldState", "Pose", "Grasp", "Config
 
 
 def open_world(scene: Mapping[str, Any] | str | Path, *, seed: int,
-               verbose: bool = False) -> PyBulletWorld:
+               verbose: bool = False, visuals: bool = True) -> PyBulletWorld:
     """Build the world described by ``scene`` (a dict or a JSON file) on a fresh PyBullet
-    DIRECT client. ``seed`` is recorded; every bound function samples from ``ctx.rng``."""
+    DIRECT client. ``seed`` is recorded; every bound function samples from ``ctx.rng``.
+    ``visuals=False`` skips the visual shapes, which only rendering uses (a Panda loads
+    in a tenth of the time); such a world cannot ``render``."""
     scene, _ = scene_argument(scene, seed, read_code="PB003", seed_code="PB004",
                               world="pybullet")
-    return PyBulletWorld(parse_scene(scene), seed=seed, verbose=verbose)
+    return PyBulletWorld(parse_scene(scene), seed=seed, verbose=verbose, visuals=visuals)

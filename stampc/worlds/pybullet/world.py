@@ -36,10 +36,13 @@ class PyBulletWorld:
 
     package = "stampc.worlds.pybullet"
 
-    def __init__(self, spec: SceneSpec, *, seed: int, verbose: bool = False):
+    def __init__(self, spec: SceneSpec, *, seed: int, verbose: bool = False,
+                 visuals: bool = True):
         self.spec = spec
         self.seed = seed
         self.verbose = verbose
+        #: visual shapes loaded (``render`` needs them; planning and execution do not)
+        self.visuals = visuals
         with quiet_stdout(not verbose):
             self.client = p.connect(p.DIRECT)
         try:
@@ -152,20 +155,21 @@ class PyBulletWorld:
         return body
 
     def _add_box(self, s: BoxSpec) -> int:
-        return self._register(s.name, bodies.add_box(self.client, s))
+        return self._register(s.name, bodies.add_box(self.client, s, self.visuals))
 
     def _add_object(self, o: ObjectSpec) -> int:
-        body, self.geometry[o.name] = bodies.add_object(self.client, o, self.verbose)
+        body, self.geometry[o.name] = bodies.add_object(self.client, o, self.verbose,
+                                                        self.visuals)
         return self._register(o.name, body)
 
     def _add_robot(self, spec: RobotSpec) -> Arm:
-        arm = bodies.add_robot(self.client, spec, self.verbose)
+        arm = bodies.add_robot(self.client, spec, self.verbose, self.visuals)
         self.name_of[arm.body] = spec.name
         return arm
 
     def _add_uav(self) -> int:
         assert self.spec.uav is not None
-        body = bodies.add_uav(self.client, self.spec.uav)
+        body = bodies.add_uav(self.client, self.spec.uav, self.visuals)
         self.name_of[body] = self.spec.uav.name
         return body
 
