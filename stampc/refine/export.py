@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from stampc.ir.grounded import GroundModel, bits
-from stampc.refine.figures import DrawnNode, coverage_svg, policy_svg
+from stampc.figures import DrawnNode, coverage_svg, policy_svg
 from stampc.refine.graph import PolicyGraph
 from stampc.refine.options import RefineResult
 from stampc.refine.outcomes import outcome_labels

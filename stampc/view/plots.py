@@ -1,5 +1,5 @@
 """The coverage-over-time figure of the report: the run's own figure
-(:func:`stampc.refine.figures.coverage_svg`: the mass split into goal, proven dead ends
+(:func:`stampc.figures.coverage_svg`: the mass split into goal, proven dead ends
 and the unrefined rest), inline. A static SVG rather than a plotting library's script:
 plotly's bundle alone is 4.8 MB, and the whole report should stay well under 5 MB.
 """
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from stampc.refine import figures
+from stampc import figures
 from stampc.view.rundir import CoveragePoint
 
 

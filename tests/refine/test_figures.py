@@ -1,4 +1,4 @@
-"""The run's drawings (stampc.refine.figures): well-formed SVG whose geometry follows the
+"""The run's drawings (stampc.figures): well-formed SVG whose geometry follows the
 data — the coverage areas stack to the mass split, the policy tree puts each parent over
 its children."""
 
@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from stampc.refine.figures import MASS_COLORS, coverage_svg, policy_svg
+from stampc.figures import MASS_COLORS, coverage_svg, policy_svg
 
 SVG = "{http://www.w3.org/2000/svg}"
 

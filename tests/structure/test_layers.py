@@ -17,6 +17,8 @@ ROOT = Path(__file__).resolve().parents[2] / "stampc"
 BASE = {"diagnostics", "grammar_cache", "lazy", "inputs", "gcpause"}
 ALLOWED = {
     "diagnostics": set(), "grammar_cache": set(), "lazy": set(), "inputs": {"diagnostics"}, "gcpause": set(),
+    # the run's drawings as SVG text (refine writes them, the report shows them)
+    "figures": set(),
     # content hashes of a run's inputs (stamp files, used modules, scene builder)
     "provenance": BASE | {"syntax", "semantics", "worlds.modules"},
     "syntax": BASE,
@@ -30,9 +32,9 @@ ALLOWED = {
     "worlds.loading": BASE | {"ir", "worlds.base", "worlds.bindings", "worlds.modules"},
     "worlds.plane2d": BASE | {"worlds.base"},
     "worlds.pybullet": BASE | {"worlds.base"},
-    "refine": BASE | {"ir", "solvers", "worlds.base", "worlds.bindings", "provenance"},
+    "refine": BASE | {"ir", "solvers", "worlds.base", "worlds.bindings", "provenance", "figures"},
     # the report reads run directories as `execute` does; it never runs the engine
-    "view": BASE | {"execute"},
+    "view": BASE | {"execute", "figures"},
     # the language server is the front end's: no IR, solver or world
     "lsp": BASE | {"syntax", "semantics", "commands"},
 }
