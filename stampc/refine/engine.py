@@ -40,7 +40,7 @@ from stampc.refine.planner import AbstractPlanner
 from stampc.refine.recall import FactMemory
 from stampc.refine.reporting import THRESHOLDS, Reporting
 from stampc.refine.selection import NodeCost, select_path, tracked_bounds
-from stampc.refine.unlocking import select_unlocking
+from stampc.refine.unlocking import better_ratio, select_unlocking
 from stampc.refine.update import Updating
 from stampc.worlds.bindings import ResolvedBindings
 
@@ -193,16 +193,23 @@ class Engine(Updating, Backtracking, Reporting):
     def _select(self, graph: PolicyGraph, cost: NodeCost | None = None,
                 changed: Iterable[int] = ()):
         """The best uncovered path: by the mass it unlocks (unlocking.py) where branches
-        merge, else by its probability (selection.py). The values are kept on the graph
+        merge, unless p/ĉ's exact search finds a better ratio; else by its probability
+        (selection.py). The values are kept on the graph
         (ĉ depends on the node and the horizon only); ``cost`` differing from ĉ on the
         ``changed`` nodes only (a parallel batch's taken ones) is computed aside."""
         cost = cost or self._node_cost
+
+        def by_path():
+            return select_path(graph, cost,
+                               bounds=tracked_bounds(graph, cost, self.horizon, changed))
+
         if self.options.selection == "unlocked":
             found = select_unlocking(graph, cost, self.horizon, changed)
+            if found is None:
+                return None  # nothing left to gain
             if found is not False:
-                return found
-        return select_path(graph, cost,
-                           bounds=tracked_bounds(graph, cost, self.horizon, changed))
+                return better_ratio(found, by_path())
+        return by_path()
 
     def _act(self, graph: PolicyGraph, selected) -> tuple[str, str]:
         """Work on the selected path: extend its open leaf or refine its first unrefined action."""

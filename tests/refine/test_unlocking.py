@@ -8,7 +8,7 @@ import pytest
 
 from stampc.refine.graph import DEAD_END, GOAL, HORIZON, coverage
 from stampc.refine.selection import select_path
-from stampc.refine.unlocking import best_unlocking, select_unlocking
+from stampc.refine.unlocking import best_unlocking, better_ratio, select_unlocking
 
 from test_graph import build, random_tree
 
@@ -34,6 +34,25 @@ def test_a_branch_whose_continuations_are_refined_goes_first():
     gain, c, path = select_unlocking(g, cost, "k")
     assert path == (0, 2) and c == 1.0
     assert gain == pytest.approx(0.2)
+
+
+def test_p_over_c_wins_where_the_sweep_stops_short():
+    """Node 1 keeps its own best continuation: itself alone (0.3 for ĉ 1) over going on
+    through 3 (1.0 for ĉ 5). Below the root's ĉ of 5 that choice is the worse one (0.3 / 6
+    against 0.7 / 10 for p/ĉ's path alone), and the engine takes p/ĉ's path."""
+    g = build({0: ("act", False, [(1.0, 1)]),
+               1: ("act", False, [(0.3, 2), (0.7, 3)]),
+               2: ("act", True, [(1.0, 4)]), 3: ("act", False, [(1.0, 4)]),
+               4: ("leaf", GOAL)})
+    cost = costs({0: 5.0, 1: 1.0, 3: 4.0})
+    swept = select_unlocking(g, cost, "k")
+    assert swept[1:] == (6.0, (0, 1)) and swept[0] == pytest.approx(0.3)
+    by_path = select_path(g, cost)
+    assert by_path[2] == (0, 1, 3, 4) and by_path[0] / by_path[1] == pytest.approx(0.07)
+    assert better_ratio(swept, by_path) is by_path
+    assert better_ratio(swept, None) is swept
+    richer = (0.9, 6.0, (0, 1))  # had the sweep's path added 0.9, it would stay
+    assert better_ratio(richer, by_path) is richer
 
 
 def test_trees_are_left_to_p_over_c():
