@@ -102,9 +102,10 @@ def work_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
 
 def anytime_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
     lines = [f"Classes whose median whole-process time is ≥ {ANYTIME_MIN_S:.0f} s: median "
-             "engine time to 50/80/90/100 % of the probability mass, and how many runs "
-             "had 80 % within 30 % of their run (the paper's figure) / 90 % within 15 %.",
-             "", "| class | t50 | t80 | t90 | t100 | 80 % ≤ 30 % | 90 % ≤ 15 % |",
+             "engine time to 50/80/90 % of the probability mass and to the run's end (the "
+             "target coverage, 0.999: not every solved run reaches exactly 1), and how many "
+             "runs had 80 % within 30 % of their run (the paper's figure) / 90 % within 15 %.",
+             "", "| class | t50 | t80 | t90 | t end | 80 % ≤ 30 % | 90 % ≤ 15 % |",
              "|---|---|---|---|---|---|---|"]
     for cls in classes:
         solved = [r for r in _rows(records, cls) if r.solved]
@@ -112,7 +113,7 @@ def anytime_table(records: list[Any], classes: Sequence[Any]) -> list[str]:
         if med is None or med < ANYTIME_MIN_S:
             continue
         tt = [_median([r.time_to[k] for r in solved if r.time_to.get(k) is not None])
-              for k in ("0.5", "0.8", "0.9", "1.0")]
+              for k in ("0.5", "0.8", "0.9")] + [_median([r.engine_s for r in solved])]
         early80 = sum(_early(r, "0.8", 0.30) for r in solved)
         early90 = sum(_early(r, "0.9", 0.15) for r in solved)
         lines.append(f"| {cls.name} | " + " | ".join(_fmt(t, 2) for t in tt)
