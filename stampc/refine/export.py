@@ -5,10 +5,10 @@ policy.json is deterministic for a given seed (no timings in it), so it can be d
 timings live in coverage.csv and summary.json.
 
 Writing stays bounded for large policies: policy.json and policy.dot are linear in the
-graph; policy.svg (:mod:`.figures`, meant to be read, not searched) shows at most
-``SVG_MAX_NODES`` nodes, those nearest the root, and
-policy.dot at most ``DOT_MAX_NODES``; the rest are collapsed into "+k more" markers and a
-note says so (summary.json ``notes``; the command line prints it).
+graph; policy.svg (:mod:`stampc.figures`, a drawing to read, not to search) shows at
+most ``SVG_MAX_NODES`` nodes, those nearest the root, and policy.dot at most
+``DOT_MAX_NODES``; the rest are collapsed into "+k more" markers and a note says so
+(summary.json ``notes``; the command line prints it).
 """
 
 from __future__ import annotations

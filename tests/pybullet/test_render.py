@@ -52,7 +52,7 @@ def test_a_world_without_visuals_collides_alike_and_refuses_to_render(world):
     try:
         with pytest.raises(StampcError) as info:
             render_frame(bare, 32, 24)
-        assert info.value.diagnostics[0].code == "PB041"
+        assert info.value.diagnostics[0].code == "PB043"
         rng = np.random.default_rng(3)
         hit_configs = 0
         for _ in range(60):

@@ -37,7 +37,7 @@ def render_frame(world: PyBulletWorld, width: int = 320, height: int = 240, *,
         raise StampcError([error("PB040", f"frame size must be positive, got {width}x{height}",
                                  Span.point("<render>"))])
     if not world.visuals:
-        raise StampcError([error("PB041", "this world was built without visual shapes, so it "
+        raise StampcError([error("PB043", "this world was built without visual shapes, so it "
                                  "cannot render", Span.point("<render>"),
                                  "open it with open_world(..., visuals=True)")])
     d_target, d_dist, d_yaw, d_pitch = _camera(world)
