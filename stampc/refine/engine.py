@@ -194,9 +194,9 @@ class Engine(Updating, Backtracking, Reporting):
                 changed: Iterable[int] = ()):
         """The best uncovered path: by the mass it unlocks (unlocking.py) where branches
         merge, unless p/ĉ's exact search finds a better ratio; else by its probability
-        (selection.py). The values are kept on the graph
-        (ĉ depends on the node and the horizon only); ``cost`` differing from ĉ on the
-        ``changed`` nodes only (a parallel batch's taken ones) is computed aside."""
+        (selection.py). The values are kept on the graph (ĉ depends on the node and the
+        horizon only); ``cost`` differing from ĉ on the ``changed`` nodes only (a
+        parallel batch's taken ones) is computed aside."""
         cost = cost or self._node_cost
 
         def by_path():

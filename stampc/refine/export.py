@@ -21,7 +21,7 @@ from typing import Any, Mapping
 
 from stampc.ir.grounded import GroundModel, bits
 from stampc.figures import DrawnNode, coverage_svg, policy_svg
-from stampc.refine.graph import PolicyGraph
+from stampc.refine.graph import Node, PolicyGraph
 from stampc.refine.options import RefineResult
 from stampc.refine.outcomes import outcome_labels
 from stampc.worlds.base import to_json
@@ -102,8 +102,8 @@ def policy_dot(model: GroundModel, graph: PolicyGraph,
             if node.action not in labels:
                 labels[node.action] = _escape(model.actions[node.action].label)
             label, style = labels[node.action], "box"
-        color = "palegreen" if node.refined or node.leaf in ("goal",) else "lightgrey"
-        lines.append(f'  n{uid} [label="{label}", shape={style}, style=filled, fillcolor={color}];')
+        lines.append(f'  n{uid} [label="{label}", shape={style}, style=filled, '
+                     f'fillcolor={_fill(node)}];')
         for e in node.edges:
             if e.child in kept:
                 lines.append(f'  n{uid} -> n{e.child} [label="{e.probability:.3g}"];')
@@ -112,6 +112,11 @@ def policy_dot(model: GroundModel, graph: PolicyGraph,
             lines.append(f"  n{uid} -> more{uid} [style=dashed];")
     lines.append("}")
     return "\n".join(lines) + "\n", _collapsed_note("policy.dot", len(drawn), graph)
+
+
+def _fill(node: Node) -> str:
+    """A drawn node's colour: green where the policy is refined (or reached its goal)."""
+    return "palegreen" if node.refined or node.leaf == "goal" else "lightgrey"
 
 
 def _collapsed_note(name: str, drawn: int, graph: PolicyGraph) -> str | None:
@@ -172,8 +177,7 @@ def write_policy_svg(model: GroundModel, graph: PolicyGraph, path: Path,
     for uid in drawn:
         node = graph[uid]
         label = (node.leaf or "leaf") if node.is_leaf else model.actions[node.action].name
-        fill = "palegreen" if node.refined or node.leaf == "goal" else "lightgrey"
-        nodes.append((uid, node.depth, label, fill))
+        nodes.append((uid, node.depth, label, _fill(node)))
         edges += [(uid, e.child) for e in node.edges if e.child in kept]
     for uid, count in hidden.items():
         nodes.append((f"+{uid}", graph[uid].depth + 1, f"+{count} more", "white"))
