@@ -60,9 +60,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "best path probability per cost (docs/refine.md)")
     parser.add_argument("--solve-work-limit", type=positive_int, default=None, metavar="N",
                         help="cap on one abstract solve's work, in units of about one "
-                             "heuristic evaluation (default: about 10 s of a 25-can "
-                             "re-solve); unlike a time cap, a work cap keeps runs whose "
-                             "solves hit it reproducible (docs/refine.md, Determinism)")
+                             "h_add evaluation on the 25-can table (default 100,000: "
+                             "about 10 s of CPU on small and large models alike); unlike "
+                             "a time cap, a work cap keeps runs whose solves hit it "
+                             "reproducible (docs/refine.md, Determinism)")
     parser.add_argument("--fixed-solve-cap", action="store_true",
                         help="give every abstract solve the whole work cap, instead of "
                              "quartering it after a capped solve that a determinized plan "

@@ -16,12 +16,24 @@ from stampc.solvers.space import Space
 from stampc.solvers.successors import Transition
 
 
-#: ``Search.work``: one unit per generated node (its heuristic evaluation: ~100 µs of
-#: CPU on the 25-can cluttered table), one per expansion, and one per 50 transitions
-#: scanned by Bellman backups (~2 µs each). Fitted to the CPU time of 50 re-solves of
-#: cluttered-25 seed 5 (0.6-5 s each): ~10,000 units per CPU second.
+#: ``Search.work`` is in units of about one h_add evaluation on the 25-can cluttered table
+#: (~130 µs of CPU): the heuristic's own effort where it reports one (``h.effort``: its
+#: relaxed-action counter updates, heuristics.py), else one unit per generated node; per
+#: expansion, ``expansion_work`` units; and one per 50 transitions scanned by Bellman
+#: backups (~2 µs each). Fitted to the CPU time of 50 re-solves of cluttered-25 seed 5
+#: (0.6-5 s each): ~10,000 units per CPU second, on 60 cans as on 25 (there one unit per
+#: evaluation was ~2.8 times too cheap, and the solve time guard bound before the cap).
 EXPANSION_WORK = 1
 BACKUPS_PER_WORK = 50
+#: an expansion's cost grows with the state's width (its successors are built with
+#: ``n_facts``-bit integer operations): 1.2 units on the 25-can table (5,463 facts,
+#: ~150 µs), 8 on 60 cans (36,483 facts, ~1.25 ms)
+FACTS_PER_EXPANSION_WORK = 4500
+
+
+def expansion_work(n_facts: int) -> float:
+    """The work units of one expansion in a model with ``n_facts`` facts."""
+    return max(float(EXPANSION_WORK), n_facts / FACTS_PER_EXPANSION_WORK)
 
 
 class SolverTimeout(Exception):
@@ -56,12 +68,18 @@ class Search:
         self.expansions = 0
         self.generated = 0
         self.backed_up = 0
+        self._effort = getattr(space.h, "effort", None)
+        self._effort_start = self._effort() if self._effort is not None else 0.0
+        self.expansion_work = expansion_work(len(space.cache.model.facts))
 
     @property
     def work(self) -> int:
-        """The search's work so far, in units of about one heuristic evaluation."""
-        return (EXPANSION_WORK * self.expansions + self.generated
-                + self.backed_up // BACKUPS_PER_WORK)
+        """The search's work so far, in units of about one h_add evaluation on the 25-can
+        cluttered table (module constants)."""
+        evaluations = (self._effort() - self._effort_start if self._effort is not None
+                       else self.generated)
+        return int(self.expansion_work * self.expansions + evaluations
+                   + self.backed_up // BACKUPS_PER_WORK)
 
     def check_limits(self) -> None:
         """Raise ``SolverTimeout`` past the deadline or the work limit."""

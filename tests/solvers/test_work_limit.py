@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import pytest
 
-from ssp_builders import random_model
+from ssp_builders import random_model, reachable_states
 from stampc.diagnostics import StampcError
-from stampc.solvers import SolverOptions, solve
+from stampc.solvers import SolverOptions, make_heuristic, solve
+from stampc.solvers.core import expansion_work
 from stampc.solvers.determinized import with_greedy_plan
 
 #: random models whose h_max LAO* needs thousands of work units (seed: units measured)
@@ -47,13 +48,38 @@ def test_a_limit_above_the_solves_work_changes_nothing(seed):
     assert _fingerprint(roomy) == _fingerprint(full)
 
 
-def test_work_counts_heuristic_evaluations_expansions_and_backups():
+def test_work_counts_heuristic_effort_expansions_and_backups():
     full = solve(_model(2), SolverOptions(heuristic="hmax"))
     search = full.search
     assert search.generated == len(search.V) - 1  # every node but the root was generated
     assert search.expansions == len(search.expanded) == full.states_expanded
     assert search.backed_up >= sum(len(t) for t in search.expanded.values())
-    assert search.work == search.expansions + search.generated + search.backed_up // 50
+    effort = search.space.h.effort()  # a fresh heuristic: all of it is this search's
+    assert 0 < effort < search.generated + 1  # small model: below one unit per evaluation
+    assert search.expansion_work == 1.0
+    assert search.work == int(search.expansions + effort + search.backed_up // 50)
+
+
+def test_an_evaluation_counts_by_the_relaxed_actions_it_updates():
+    # the same facts and goal with ten times the actions: each evaluation scans and
+    # updates more counters, so it counts for more (CPU time measured: 2.8 times)
+    per_evaluation = []
+    for n_actions in (20, 200):
+        model = random_model(3, n_facts=10, n_actions=n_actions)
+        h = make_heuristic("hadd", model, False)
+        states = reachable_states(model)[:60]
+        for s in states:
+            h(s)
+        per_evaluation.append(h.effort() / len(states))
+    assert per_evaluation[1] > 2 * per_evaluation[0]
+    h(states[0])  # cached: costs nothing
+    assert h.effort() == per_evaluation[1] * len(states)
+
+
+def test_an_expansion_counts_by_the_width_of_the_state():
+    assert expansion_work(100) == 1.0
+    assert expansion_work(5_463) == pytest.approx(1.21, abs=0.01)  # 25 cans
+    assert expansion_work(36_483) == pytest.approx(8.1, abs=0.01)  # 60 cans
 
 
 @pytest.mark.parametrize("seed", (1, 2))
