@@ -17,18 +17,19 @@ from stampc.solvers.successors import Transition
 
 
 #: ``Search.work`` is in units of about one h_add evaluation on the 25-can cluttered table
-#: (~130 µs of CPU): the heuristic's own effort where it reports one (``h.effort``: its
-#: relaxed-action counter updates, heuristics.py), else one unit per generated node; per
-#: expansion, ``expansion_work`` units; and one per 50 transitions scanned by Bellman
-#: backups (~2 µs each). Fitted to the CPU time of 50 re-solves of cluttered-25 seed 5
-#: (0.6-5 s each): ~10,000 units per CPU second, on 60 cans as on 25 (there one unit per
-#: evaluation was ~2.8 times too cheap, and the solve time guard bound before the cap).
+#: (~130 µs of CPU): one unit per generated node (its heuristic evaluation), plus what
+#: costlier evaluations cost beyond one unit where the heuristic reports it (``h.effort``:
+#: its relaxed-action counter updates, heuristics.py); per expansion, ``expansion_work``
+#: units; and one per 50 transitions scanned by Bellman backups (~2 µs each). Fitted to
+#: the CPU time of 50 re-solves of cluttered-25 seed 5 (0.6-5 s each): ~10,000 units per
+#: CPU second, on 60 cans as on 25 (there one unit per evaluation and per expansion was
+#: ~2.7 and ~8 times too cheap, and the 30-s solve guard bound before the cap).
 EXPANSION_WORK = 1
 BACKUPS_PER_WORK = 50
 #: an expansion's cost grows with the state's width (its successors are built with
-#: ``n_facts``-bit integer operations): 1.2 units on the 25-can table (5,463 facts,
-#: ~150 µs), 8 on 60 cans (36,483 facts, ~1.25 ms)
-FACTS_PER_EXPANSION_WORK = 4500
+#: ``n_facts``-bit integer operations): one unit up to the 25-can table's 5,463 facts
+#: (~150 µs; the units were fitted there), 6.6 on 60 cans (36,483 facts, ~1.25 ms)
+FACTS_PER_EXPANSION_WORK = 5500
 
 
 def expansion_work(n_facts: int) -> float:
@@ -76,9 +77,8 @@ class Search:
     def work(self) -> int:
         """The search's work so far, in units of about one h_add evaluation on the 25-can
         cluttered table (module constants)."""
-        evaluations = (self._effort() - self._effort_start if self._effort is not None
-                       else self.generated)
-        return int(self.expansion_work * self.expansions + evaluations
+        costlier = self._effort() - self._effort_start if self._effort is not None else 0.0
+        return int(self.expansion_work * self.expansions + self.generated + costlier
                    + self.backed_up // BACKUPS_PER_WORK)
 
     def check_limits(self) -> None:

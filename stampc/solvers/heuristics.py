@@ -169,9 +169,10 @@ class RelaxedModel:
                         if self.uniform_cost is not None and self.uniform_cost > 0 else None)
         #: the open literals, counts and adds of the state evaluated last (open_view.py)
         self.view = OpenView(self)
-        #: the work of every evaluation so far, in units of about one h_add evaluation on
-        #: the 25-can cluttered table (``EFFORT_UNIT``): deterministic, and about
-        #: proportional to CPU time on small and large models alike (``Search.work``)
+        #: the work of every evaluation so far beyond one unit each, in units of about one
+        #: h_add evaluation on the 25-can cluttered table (``EFFORT_UNIT``): deterministic,
+        #: and added to one unit per generated node it makes ``Search.work`` about
+        #: proportional to CPU time on large models too
         self.effort = 0.0
         self.effort_per_evaluation = (EFFORT_BASE + len(costs)) / EFFORT_UNIT
 
@@ -182,11 +183,13 @@ def _count_lacking(rm: RelaxedModel, literals: int) -> list[int]:
     return [(m & lacking).bit_count() for m in rm.pre_masks]
 
 
-#: ``RelaxedModel.effort``: an evaluation costs about ``EFFORT_BASE`` + one per relaxed
-#: action (its counter is copied and scanned) + one per counter update, in units of
-#: ``EFFORT_UNIT`` (an h_add evaluation on the 25-can cluttered table: 220 relaxed
-#: actions, ~450 updates, ~130 µs). Fitted to CPU time (µs ≈ 11.3 + 0.173·actions +
+#: An evaluation costs about ``EFFORT_BASE`` + one per relaxed action (its counter is
+#: copied and scanned) + one per counter update, in units of ``EFFORT_UNIT`` (an h_add
+#: evaluation on the 25-can cluttered table: 220 relaxed actions, ~450 updates, ~130 µs,
+#: where the solve caps were sized). Fitted to CPU time (µs ≈ 11.3 + 0.173·actions +
 #: 0.180·updates) on the 25- and 60-can tables and two random models, within 5 %.
+#: ``RelaxedModel.effort`` sums what evaluations cost beyond one unit each (~1.7 per
+#: evaluation on 60 cans; cheaper ones count one unit, as they always did).
 EFFORT_BASE = 63
 EFFORT_UNIT = 730
 
@@ -203,9 +206,7 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
     if rm.goal_never:
         return math.inf
     if mode == "max" and rm.layered is not None:
-        rm.effort += 1.0
         return rm.layered(state)
-    rm.effort += rm.effort_per_evaluation
     # h_FF takes its supporters from the h_max propagation (as FF's planning graph does):
     # a max costs O(1) per relaxed action where a sum walks every precondition
     additive = mode == "add"
@@ -244,7 +245,7 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
             total = total + c if additive else c
             remaining -= 1
             if remaining == 0:
-                rm.effort += updates / EFFORT_UNIT
+                rm.effort += _effort(rm, updates)
                 return _relaxed_plan_cost(rm, goal, supporter) if mode == "ff" else total
         users_f = users[f]
         updates += len(users_f)
@@ -261,8 +262,15 @@ def _relaxed_cost(rm: RelaxedModel, state: int, mode: str) -> float:
                     best[g] = base
                     supporter[g] = i
                     heappush(heap, (base, g))
-    rm.effort += updates / EFFORT_UNIT
+    rm.effort += _effort(rm, updates)
     return math.inf
+
+
+def _effort(rm: RelaxedModel, updates: int) -> float:
+    """One evaluation's work units beyond the one every generated node counts already
+    (``Search.work``): the excess of its fitted cost over one unit, or 0."""
+    units = rm.effort_per_evaluation + updates / EFFORT_UNIT
+    return units - 1.0 if units > 1.0 else 0.0
 
 
 def _relaxed_plan_cost(rm: RelaxedModel, goal: list[int], supporter: dict[int, int]) -> float:

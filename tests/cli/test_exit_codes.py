@@ -141,7 +141,7 @@ def test_no_resample_placers_reaches_the_engine(flags, resampled, tmp_path, caps
     assert summary["coverage"] == pytest.approx(1.0)
 
 
-@pytest.mark.parametrize("flags,capped", [((), False), (("--solve-work-limit", "8"), True)])
+@pytest.mark.parametrize("flags,capped", [((), False), (("--solve-work-limit", "20"), True)])
 def test_solve_work_limit_reaches_the_engine(flags, capped, tmp_path, capsys):
     _, summary = _refine_shelf(tmp_path, *flags)
     assert (summary["solver_timeouts"] > 0) == capped
@@ -149,10 +149,10 @@ def test_solve_work_limit_reaches_the_engine(flags, capped, tmp_path, capsys):
 
 
 def test_fixed_solve_cap_reaches_the_engine(tmp_path, capsys):
-    """With a cap of 8 the shelf's solves are capped and answered by plans; the adaptive
+    """With a cap of 20 the shelf's solves are capped and answered by plans; the adaptive
     cap then quarters the next solves' caps, so more of them are capped than with
     ``--fixed-solve-cap``. Both cover everything."""
-    _, adaptive = _refine_shelf(tmp_path / "a", "--solve-work-limit", "8")
-    _, fixed = _refine_shelf(tmp_path / "f", "--solve-work-limit", "8", "--fixed-solve-cap")
+    _, adaptive = _refine_shelf(tmp_path / "a", "--solve-work-limit", "20")
+    _, fixed = _refine_shelf(tmp_path / "f", "--solve-work-limit", "20", "--fixed-solve-cap")
     assert adaptive["solver_timeouts"] > fixed["solver_timeouts"] > 0
     assert adaptive["coverage"] == pytest.approx(1.0) == fixed["coverage"]
