@@ -61,9 +61,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--solve-work-limit", type=positive_int, default=None, metavar="N",
                         help="cap on one abstract solve's work, in units of about one "
                              "h_add evaluation on the 25-can table (default 100,000: "
-                             "about 10 s of CPU on small and large models alike); unlike "
-                             "a time cap, a work cap keeps runs whose solves hit it "
-                             "reproducible (docs/refine.md, Determinism)")
+                             "about 10 s of CPU there, 15-20 s on 60 cans); unlike a time "
+                             "cap, a work cap keeps runs whose solves hit it reproducible "
+                             "(docs/refine.md, Determinism)")
     parser.add_argument("--fixed-solve-cap", action="store_true",
                         help="give every abstract solve the whole work cap, instead of "
                              "quartering it after a capped solve that a determinized plan "

@@ -14,7 +14,8 @@ from stampc.solvers import SolverOptions
 #: coverage 0.72 with 0.05 against 0.97 without at 300 s; docs/refine.md).
 PRUNE_PROBABILITY = 0.0
 #: The abstract solver's default work cap per solve (``Search.work`` units): about 10 s
-#: of CPU of 25- or 60-can re-solves on the benchmark machine (stampc/solvers/core.py)
+#: of CPU of 25-can re-solves on the benchmark machine, 15-20 s on 60 cans
+#: (stampc/solvers/core.py)
 SOLVE_WORK_LIMIT = 100_000
 #: ... except in the continuation of a solve that hit its cap (cluttered-40 seed 0 at
 #: 180 s: coverage 0.47 with partial solves, 0.0 with full ones that never fit)
