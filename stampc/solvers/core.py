@@ -76,7 +76,9 @@ class Search:
     @property
     def work(self) -> int:
         """The search's work so far, in units of about one h_add evaluation on the 25-can
-        cluttered table (module constants)."""
+        cluttered table (module constants). The heuristic's excess effort is read from
+        the heuristic, so with a finite horizon it includes the guide search's (they
+        share it): work done for this solve all the same."""
         costlier = self._effort() - self._effort_start if self._effort is not None else 0.0
         return int(self.expansion_work * self.expansions + self.generated + costlier
                    + self.backed_up // BACKUPS_PER_WORK)
