@@ -75,6 +75,16 @@ def test_an_evaluation_costlier_than_a_unit_counts_its_cost():
     assert h.effort() == before
 
 
+def test_a_search_counts_its_costlier_evaluations_beyond_one_unit_each():
+    model = random_model(3, n_facts=10, n_actions=2000)
+    solution = solve(model, SolverOptions(heuristic="hadd"))
+    search = solution.search
+    plain = search.expansions + search.generated + search.backed_up // 50
+    excess = search.space.h.effort()  # the solve's own heuristic: all of it is this search's
+    assert excess > 0.5 * search.generated
+    assert search.work == int(plain + excess)
+
+
 def test_an_expansion_counts_by_the_width_of_the_state():
     assert expansion_work(100) == 1.0
     assert expansion_work(5_463) == 1.0  # 25 cans, where the units were fitted
