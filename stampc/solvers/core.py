@@ -22,8 +22,9 @@ from stampc.solvers.successors import Transition
 #: its relaxed-action counter updates, heuristics.py); per expansion, ``expansion_work``
 #: units; and one per 50 transitions scanned by Bellman backups (~2 µs each). Fitted to
 #: the CPU time of 50 re-solves of cluttered-25 seed 5 (0.6-5 s each): ~10,000 units per
-#: CPU second there, 5,000-7,000 on 60 cans (with one unit per evaluation and per
-#: expansion ~3,000: the 30-s solve guard, not the cap, stopped those solves).
+#: CPU second there, ~5,400 on 60 cans (measured on capped solves of seed 9; with one
+#: unit per evaluation and per expansion ~2,200: the 30-s guard, not the cap, stopped
+#: those solves).
 EXPANSION_WORK = 1
 BACKUPS_PER_WORK = 50
 #: an expansion's cost grows with the state's width (its successors are built with
