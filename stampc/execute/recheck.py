@@ -6,7 +6,8 @@ held object on its support while lifting or setting down) counts as a collision.
 * PyBullet arm paths: every ``CHECK_RESOLUTION`` rad (``PLAN_RESOLUTION / 10``, 0.005
   rad: the configurations refinement's final check tested, now in the state execution
   reached), with the same stretch rules as planning
-  (:func:`stampc.worlds.pybullet.planning.bad_bodies`);
+  (:func:`stampc.worlds.pybullet.planning.bad_bodies`) but without planning's 1 mm
+  clearance from movable objects (``world.CLEARANCE``): only penetration counts;
 * PyBullet UAV flights: every ``FLY_RESOLUTION / 10`` m (5 mm);
 * plane2d: the swept discs of the gripper (and held object) or the UAV along the
   polyline, densified 10× (the test per segment is exact).
@@ -63,7 +64,8 @@ def _arm_hits(world: Any, traj: Any) -> set[str]:
     try:
         for kind, a, b in stretches(traj) or [("middle", traj.start, traj.start)]:
             for q in interpolate(a, b, CHECK_RESOLUTION):
-                hit |= bad_bodies(world, q, kind, state.held, traj.target, traj.released)
+                hit |= bad_bodies(world, q, kind, state.held, traj.target, traj.released,
+                                  clearance=0.0)
     finally:
         world.set_arm(state.q)
     return {world.name_of.get(b, f"body{b}") if b != world.robot else "robot (self)"

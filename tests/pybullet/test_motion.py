@@ -93,6 +93,55 @@ def test_offered_trajectories_pass_the_execution_recheck(clutter):
     assert checked >= 3
 
 
+def _nearest(world, a: int, b: int) -> float:
+    """Bullet's distance between bodies ``a`` and ``b`` (inf beyond 5 cm)."""
+    points = p.getClosestPoints(a, b, 0.05, physicsClientId=world.client)
+    return min((c[8] for c in points), default=float("inf"))
+
+
+def _can_near_hand(world, name: str, gap: float) -> None:
+    """Stand can ``name`` (in the air, at the hand's height) beside the hand, just under
+    ``gap`` (m) from the robot by Bullet's measure (bisection on the offset)."""
+    hand = p.getLinkState(world.robot, world.model.ee_link, physicsClientId=world.client)[4]
+
+    def put(offset: float) -> float:
+        at = Pose((hand[0], hand[1] - offset, hand[2]), (0.0, 0.0, 0.0, 1.0))
+        world.update(poses=tuple((n, at if n == name else x) for n, x in world.state.poses))
+        return _nearest(world, world.robot, world.body[name])
+
+    lo, hi = 0.0, 0.3  # offsets along -y: lo nearer than gap, hi farther
+    for _ in range(40):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if put(mid) < gap else (lo, mid)
+    put(lo)
+
+
+def test_planning_keeps_a_clearance_from_movable_objects_and_the_recheck_does_not():
+    """A can 0.5 mm from the hand is a hit for planning (1 mm clearance: a settled can
+    moves by a hair and Bullet's near-contact distances move more) but not for the
+    re-check, which counts only penetration; a static body gets no margin."""
+    from stampc.execute.recheck import pybullet_recheck
+    from stampc.worlds.pybullet.planning import bad_bodies
+    from stampc.worlds.pybullet.values import Traj
+    from stampc.worlds.pybullet.world import CLEARANCE, PENETRATION
+
+    assert CLEARANCE > 5 * PENETRATION
+    with open_world(cluttered_table(15, seed=1), seed=0) as world:
+        q = world.state.q
+        world.set_arm(q)
+        _can_near_hand(world, "can0", CLEARANCE / 2)
+        gap = _nearest(world, world.robot, world.body["can0"])
+        assert 0 < gap < CLEARANCE
+        can = world.body["can0"]
+        assert can in bad_bodies(world, q, "middle", None, None, None)
+        assert can not in bad_bodies(world, q, "middle", None, None, None, clearance=0.0)
+        assert can not in world.hits(q)[0] and can in world.hits(q, clearance=CLEARANCE)[0]
+        traj = Traj((q, q), None, None, None)
+        assert "can0" not in pybullet_recheck(world, ConcreteAction("move", {"t": traj}))
+        _can_near_hand(world, "can0", -3 * PENETRATION)  # now it penetrates
+        assert "can0" in pybullet_recheck(world, ConcreteAction("move", {"t": traj}))
+
+
 def test_blocked_target_falls_back_and_names_blockers(clutter):
     scene = cluttered_table(15, seed=1)
     target, blockers = scene["meta"]["target"], set(scene["meta"]["blockers"])

@@ -36,7 +36,7 @@ from stampc.worlds.pybullet import manipulation, robots
 from stampc.worlds.pybullet.kinematics import grasps_of_kind, solve_ik, top_grasp
 from stampc.worlds.pybullet.manipulation import _arg, _budget, _check_object, _world
 from stampc.worlds.pybullet.values import Config, Grasp, Pose, as_config, as_pose, interpolate
-from stampc.worlds.pybullet.world import PyBulletWorld
+from stampc.worlds.pybullet.world import CLEARANCE, PyBulletWorld
 
 T = TypeVar("T", bound=tuple)
 APPROACH_STEP = 0.05  # rad between checked configs of the straight approach
@@ -54,7 +54,7 @@ def movable_hits(world: PyBulletWorld, config: Config, ignore: str) -> frozenset
     hit: set[str] = set()
     try:
         for q in configs:
-            robot, held = world.hits(q)
+            robot, held = world.hits(q, clearance=CLEARANCE)  # as the final sweep will
             hit |= world.names((robot | held) & world.movable_ids)
     finally:
         world.set_arm(world.state.q)

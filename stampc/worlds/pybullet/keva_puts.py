@@ -12,7 +12,7 @@ from stampc.worlds.pybullet import manipulation
 from stampc.worlds.pybullet.kinematics import IkSettings, solve_ik
 from stampc.worlds.pybullet.planning import CHECK_RESOLUTION, counts, interpolate, sweep
 from stampc.worlds.pybullet.values import Config, Pose, Traj, quat_from_axis_angle
-from stampc.worlds.pybullet.world import PyBulletWorld
+from stampc.worlds.pybullet.world import CLEARANCE, PyBulletWorld
 
 #: m above the target where the hand lets go (more than the IK tolerance, so the held
 #: plank never touches the planks below)
@@ -164,8 +164,9 @@ def _clear_put_config(world: PyBulletWorld, hand: Pose, rng: random.Random, ik: 
 
 
 def _clear_of_planks(world: PyBulletWorld, q: tuple[float, ...]) -> bool:
-    """The arm at ``q`` touches no plank (the held one excepted)."""
-    robot_hits, held_hits = world.hits(q)
+    """The arm at ``q`` keeps the planning clearance from every plank (the held one
+    excepted), as the trajectory's final sweep will."""
+    robot_hits, held_hits = world.hits(q, clearance=CLEARANCE)
     return not (robot_hits | held_hits) & (world.movable_ids - _held_id(world))
 
 

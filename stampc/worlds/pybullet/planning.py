@@ -22,7 +22,7 @@ from ompl import util as ou
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.pybullet.values import Config, Traj, interpolate
-from stampc.worlds.pybullet.world import PyBulletWorld
+from stampc.worlds.pybullet.world import CLEARANCE, PyBulletWorld
 
 PLAN_RESOLUTION = 0.05  # rad: OMPL's longest valid segment
 #: rad: the final check of a trajectory, the ``collision`` evaluator's sweeps and
@@ -69,10 +69,12 @@ class PlanStats:
 
 # ------------------------------------------------------------------ per-config checks
 def bad_bodies(world: PyBulletWorld, q: Sequence[float], stretch: str,
-               held: str | None, target: str | None, released: str | None) -> frozenset[int]:
+               held: str | None, target: str | None, released: str | None,
+               clearance: float = CLEARANCE) -> frozenset[int]:
     """Bodies hit at ``q`` that count as collisions in the given stretch
-    (``"retreat"``, ``"middle"`` or ``"approach"``)."""
-    robot_hits, held_hits = world.hits(q, stretch)
+    (``"retreat"``, ``"middle"`` or ``"approach"``); planning keeps ``clearance`` from
+    movable objects, execution's re-check passes 0."""
+    robot_hits, held_hits = world.hits(q, stretch, clearance)
     if stretch == "retreat":
         robot_hits = robot_hits - _ids(world, released)
         held_hits = held_hits - world.static_ids

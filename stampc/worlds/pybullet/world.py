@@ -22,6 +22,7 @@ from stampc.worlds.pybullet.state import ARM_FIELDS, Arm, ArmState, Geometry, Wo
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 
 __all__ = ["PyBulletWorld", "WorldState", "ArmState", "Arm", "Geometry", "PENETRATION",
+           "CLEARANCE",
            "G_ROBOT", "G_HELD", "G_MOVABLE", "G_STATIC", "G_UAV"]
 
 #: m each finger stands off the held object's side, and off the one just let go
@@ -29,6 +30,13 @@ FINGER_SLACK, RELEASE_SLACK = 0.001, 0.005
 _CLOSING = (0.0, 1.0, 0.0)  # the fingers close along the end-effector frame's y axis
 #: contacts shallower than this (m) are resting contacts, not collisions
 PENETRATION = 1e-4
+#: m planning keeps between the robot (or held object) and a movable object. Execution
+#: lets objects settle, and Bullet's distance between nearly touching convex shapes is not
+#: stable under the tiny pose changes that brings: a hand planned 0.04 mm into a can's
+#: rim met it 0.23 mm deep after the can settled 0.01 mm lower, 2e-5 rad tilted
+#: (cluttered-20 seed 15). Statics never move, so their planned geometry is executed
+#: exactly and needs no margin; the re-check keeps the bare tolerance.
+CLEARANCE = 1e-3
 
 
 class PyBulletWorld:
@@ -364,26 +372,34 @@ class PyBulletWorld:
         return Pose(tuple(ls[4]), tuple(ls[5]))
 
     # ------------------------------------------------------------------ collisions
-    def hits(self, q: tuple[float, ...] | list[float], stretch: str = "middle"
-             ) -> tuple[frozenset[int], frozenset[int]]:
-        """Bodies the robot and the held object penetrate at ``q`` (robot id = self-hit);
-        in a trajectory's ``"retreat"`` stretch the fingers are as they let go."""
+    def hits(self, q: tuple[float, ...] | list[float], stretch: str = "middle",
+             clearance: float = 0.0) -> tuple[frozenset[int], frozenset[int]]:
+        """Bodies the robot and the held object penetrate at ``q`` (robot id = self-hit),
+        movable ones also when nearer than ``clearance`` (m); in a trajectory's
+        ``"retreat"`` stretch the fingers are as they let go."""
         index = self._state.active
         if index in self._openings:
             self._apply_fingers(index, self._openings[index][stretch == "retreat"])
         self.set_arm(q)
-        return self.contacts()
+        return self.contacts(clearance)
 
-    def contacts(self) -> tuple[frozenset[int], frozenset[int]]:
+    def contacts(self, clearance: float = 0.0) -> tuple[frozenset[int], frozenset[int]]:
+        """Bodies the robot and the held object penetrate, and the movable ones nearer
+        than ``clearance`` (Bullet reports contact points up to about 2 mm apart)."""
         cid = self.client
         self.checks += 1
         p.performCollisionDetection(physicsClientId=cid)
+        movable = self.movable_ids
+
+        def hit(c: tuple) -> bool:
+            return c[8] < -PENETRATION or (c[8] < clearance and c[2] in movable)
+
         robot = frozenset(c[2] for c in p.getContactPoints(bodyA=self.robot, physicsClientId=cid)
-                          if c[8] < -PENETRATION)
+                          if hit(c))
         held: frozenset[int] = frozenset()
         if self._state.held is not None:
             held = frozenset(c[2] for c in p.getContactPoints(
-                bodyA=self.body[self._state.held], physicsClientId=cid) if c[8] < -PENETRATION)
+                bodyA=self.body[self._state.held], physicsClientId=cid) if hit(c))
         return robot, held
 
     def names(self, bodies: frozenset[int]) -> frozenset[str]:
