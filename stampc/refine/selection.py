@@ -26,6 +26,12 @@ EPSILON = 1e-15
 NodeCost = Callable[[Node], float]
 
 
+def per_cost(value: float, cost: float) -> float:
+    """``value`` per unit of estimated cost; a cost below one counts as one, so a nearly
+    free step does not blow a tiny value up past every real path."""
+    return value / max(cost, 1.0)
+
+
 def path_is_covered(graph: PolicyGraph, path: tuple[int, ...]) -> bool:
     leaf = graph.nodes[path[-1]]
     return leaf.terminal and all(graph.nodes[u].refined for u in path[:-1])
@@ -173,7 +179,7 @@ def select_path(graph: PolicyGraph, node_cost: NodeCost, max_pops: int = 200_000
     # so the answer is the one the search alone gives whenever its budget suffices
     best_ratio = best[0] / best[1] * (1.0 - 1e-9) if best is not None else 0.0
     counter = 0
-    heap = [(-u0 / max(c0 + r0, 1.0), counter, 1.0, c0, refined, (graph.root,))]
+    heap = [(-per_cost(u0, c0 + r0), counter, 1.0, c0, refined, (graph.root,))]
     pops = 0
     while heap and pops < max_pops:
         neg_bound, _, prob, cost, refined_prefix, path = heapq.heappop(heap)
@@ -218,7 +224,7 @@ def _extensions(graph: PolicyGraph, node_cost: NodeCost, b: Bounds, prob: float,
         if u <= 0.0:
             continue
         p2, c2 = prob * e.probability, cost + node_cost(child)
-        out.append((-p2 * u / max(c2 + r, 1.0), p2, c2, still, path + (e.child,)))
+        out.append((-per_cost(p2 * u, c2 + r), p2, c2, still, path + (e.child,)))
     return out
 
 

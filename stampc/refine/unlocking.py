@@ -36,6 +36,7 @@ from typing import Callable, Hashable, Iterable, Mapping
 
 from stampc.refine.graph import Node, PolicyGraph
 from stampc.refine.incremental import IncrementalValues
+from stampc.refine.selection import per_cost
 
 INF = math.inf
 #: any gain counts: single paths through a tall tower's merged feed outcomes have
@@ -71,7 +72,7 @@ def _inner(node: Node, cost: float, values: Mapping[int, Value]) -> Value:
     covered = children if node.refined else 0.0
     best: tuple[float, float, float, int | None] | None = None
     if not node.refined and cost < INF and children > EPSILON:
-        best = (children / max(cost, 1.0), children, cost, None)  # this node alone
+        best = (per_cost(children, cost), children, cost, None)  # this node alone
     for q, (c_cov, c_mass, c_cost, _), child in edges:
         if c_cost == INF:
             continue
@@ -80,7 +81,7 @@ def _inner(node: Node, cost: float, values: Mapping[int, Value]) -> Value:
         gain = mass - covered
         if gain <= EPSILON or total == INF:
             continue
-        score = gain / max(total, 1.0)
+        score = per_cost(gain, total)
         if best is None or score > best[0]:
             best = (score, mass, total, child)
     if best is None:
@@ -116,7 +117,7 @@ def better_ratio(unlocking: Selected, by_path: Selected | None) -> Selected:
         return unlocking
     gain, cost, _ = unlocking
     p, p_cost, _ = by_path
-    return by_path if p / max(p_cost, 1.0) > gain / max(cost, 1.0) else unlocking
+    return by_path if per_cost(p, p_cost) > per_cost(gain, cost) else unlocking
 
 
 def _kept(graph: PolicyGraph, node_cost: NodeCost, key: Hashable) -> IncrementalValues:
