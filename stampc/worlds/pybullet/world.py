@@ -22,8 +22,7 @@ from stampc.worlds.pybullet.state import ARM_FIELDS, Arm, ArmState, Geometry, Wo
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 
 __all__ = ["PyBulletWorld", "WorldState", "ArmState", "Arm", "Geometry", "PENETRATION",
-           "CLEARANCE",
-           "G_ROBOT", "G_HELD", "G_MOVABLE", "G_STATIC", "G_UAV"]
+           "CLEARANCE", "G_ROBOT", "G_HELD", "G_MOVABLE", "G_STATIC", "G_UAV"]
 
 #: m each finger stands off the held object's side, and off the one just let go
 FINGER_SLACK, RELEASE_SLACK = 0.001, 0.005
