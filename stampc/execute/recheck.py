@@ -7,7 +7,8 @@ held object on its support while lifting or setting down) counts as a collision.
   rad: the configurations refinement's final check tested, now in the state execution
   reached), with the same stretch rules as planning
   (:func:`stampc.worlds.pybullet.planning.bad_bodies`) but without planning's 1 mm
-  clearance from movable objects (``world.CLEARANCE``): only penetration counts;
+  clearance from movable objects (``world.CLEARANCE``): only penetration counts, of a
+  movable object at any depth, of a static one deeper than 0.1 mm;
 * PyBullet UAV flights: every ``FLY_RESOLUTION / 10`` m (5 mm);
 * plane2d: the swept discs of the gripper (and held object) or the UAV along the
   polyline, densified 10× (the test per segment is exact).

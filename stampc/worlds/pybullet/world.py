@@ -34,7 +34,8 @@ PENETRATION = 1e-4
 #: stable under the tiny pose changes that brings: a hand planned 0.04 mm into a can's
 #: rim met it 0.23 mm deep after the can settled 0.01 mm lower, 2e-5 rad tilted
 #: (cluttered-20 seed 15). Statics never move, so their planned geometry is executed
-#: exactly and needs no margin; the re-check keeps the bare tolerance.
+#: exactly and needs no margin. The re-check passes 0: any penetration of a movable
+#: object counts there, and only :data:`PENETRATION` is tolerated, against statics.
 CLEARANCE = 1e-3
 
 
@@ -373,9 +374,9 @@ class PyBulletWorld:
     # ------------------------------------------------------------------ collisions
     def hits(self, q: tuple[float, ...] | list[float], stretch: str = "middle",
              clearance: float = 0.0) -> tuple[frozenset[int], frozenset[int]]:
-        """Bodies the robot and the held object penetrate at ``q`` (robot id = self-hit),
-        movable ones also when nearer than ``clearance`` (m); in a trajectory's
-        ``"retreat"`` stretch the fingers are as they let go."""
+        """Bodies the robot and the held object meet at ``q`` (robot id = self-hit), as
+        :meth:`contacts` counts them; in a trajectory's ``"retreat"`` stretch the fingers
+        are as they let go."""
         index = self._state.active
         if index in self._openings:
             self._apply_fingers(index, self._openings[index][stretch == "retreat"])
@@ -383,15 +384,17 @@ class PyBulletWorld:
         return self.contacts(clearance)
 
     def contacts(self, clearance: float = 0.0) -> tuple[frozenset[int], frozenset[int]]:
-        """Bodies the robot and the held object penetrate, and the movable ones nearer
-        than ``clearance`` (Bullet reports contact points up to about 2 mm apart)."""
+        """Bodies the robot and the held object meet: a static one when penetrated deeper
+        than :data:`PENETRATION` (resting contacts), a movable one when nearer than
+        ``clearance`` — with the default 0, penetrated to any depth (Bullet reports
+        contact points up to about 2 mm apart, so a clearance costs no extra query)."""
         cid = self.client
         self.checks += 1
         p.performCollisionDetection(physicsClientId=cid)
         movable = self.movable_ids
 
         def hit(c: tuple) -> bool:
-            return c[8] < -PENETRATION or (c[8] < clearance and c[2] in movable)
+            return c[8] < (clearance if c[2] in movable else -PENETRATION)
 
         robot = frozenset(c[2] for c in p.getContactPoints(bodyA=self.robot, physicsClientId=cid)
                           if hit(c))
