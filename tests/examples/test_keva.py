@@ -308,6 +308,55 @@ def test_puts_next_to_built_planks_are_clear(structure, levels, seed, upto):
         world.close()
 
 
+def test_the_fingers_open_only_as_far_as_the_retreat_stays_clear():
+    """Tower-24 seed 2, r0..r42 built: the left arm's put of r43 lets go beside plank
+    r42. Opened the default 5 mm past the plank, a finger backs off within the planning
+    clearance of r42 (refused on every re-sample: the put config is deterministic), so
+    the release opens 3 mm; the retreat then keeps the clearance. A put in the open
+    (r0) keeps the default."""
+    from stampc.worlds.pybullet.keva_puts import open_to_release
+    from stampc.worlds.pybullet.planning import counts, sweep
+    from stampc.worlds.pybullet.values import Traj
+    from stampc.worlds.pybullet.world import RELEASE_SLACK
+
+    roles = st.roles("tower", 24, 2)
+    world = open_world("pybullet", kv.build("tower", 24, 2), seed=0)
+    try:
+        ctx = Context(world=world, rng=random.Random(0))
+        bodies = sorted(keva._meta_supply(world), key=lambda n: int(n[1:]))
+        slacks = {}
+        for upto in (0, 43):
+            for body, role in zip(bodies, roles[:upto]):
+                world.update(poses=world.with_object_pose(body, role.pose))
+            world.update(held=None, grip=None, q=tuple(world.model.rest))
+            if keva.body_at(world, keva.feed_pose(world, "feed1")) is None:
+                keva.bring(ctx, ConcreteAction("bring", {}, adds=(("waiting", ("feed1",)),)))
+            g, q = next(iter(keva.feed_grasp(ctx, "left", "feed1")))
+            keva.pick(ctx, ConcreteAction("pick", {"a": "left", "q": q, "g": g}, adds=()))
+            role = roles[upto]
+            p, c = next(iter(keva._put(ctx, "left", role.name, role.orientation,
+                                       role.supports)))
+            held = world.state.held
+            world.update(q=c.q, held=None, grip=None, retreat=c.pre, released=held,
+                         poses=world.with_object_pose(held, p))
+            retreat = Traj((c.q, c.pre), released=held, retreat_end=1)
+            refused = {}
+            for slack in (RELEASE_SLACK, None):
+                if slack is None:
+                    open_to_release(world)
+                else:
+                    world.update(release_slack=slack)
+                refused[slack] = counts(world, sweep(world, retreat, stop_on_hit=True), False)
+            slacks[upto] = world.state.arms[world.state.active].release_slack
+            assert not refused[None]
+            assert refused[RELEASE_SLACK] == (upto == 43)
+            world.update(released=None)
+            assert world.state.arms[world.state.active].release_slack is None  # reset
+        assert slacks[0] == RELEASE_SLACK and 0 < slacks[43] < RELEASE_SLACK
+    finally:
+        world.close()
+
+
 def _checked(fn, failures: list[str]):
     def run(ctx: Context, action: ConcreteAction) -> None:
         if "t" in action.args and not manipulation.trajectory_free(ctx, as_traj(action.args["t"])):

@@ -35,7 +35,8 @@ from typing import Any, Iterator, Mapping
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context
 from stampc.worlds.pybullet import manipulation
-from stampc.worlds.pybullet.keva_puts import SYMMETRIES, UPRIGHT_TURNS, put_configs
+from stampc.worlds.pybullet.keva_puts import (SYMMETRIES, UPRIGHT_TURNS, open_to_release,
+                                               put_configs)
 from stampc.worlds.pybullet.kinematics import top_grasp
 from stampc.worlds.pybullet.planning import PlanSettings, plan_trajectory
 from stampc.worlds.pybullet.values import Config, Grasp, Pose, Traj, as_config, as_pose, as_traj
@@ -309,6 +310,7 @@ def put(ctx: Context, action: ConcreteAction) -> None:
                             and target.multiply(s).angle(p) < 1e-6 for s in SYMMETRIES) else p
     world.update(held=None, grip=None, retreat=q.pre, released=k,
                  poses=world.with_object_pose(k, settled))
+    open_to_release(world)
     _go_home(ctx, world, a)
 
 

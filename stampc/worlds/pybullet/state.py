@@ -53,6 +53,9 @@ class ArmState:
     #: straight back-off the next arm motion starts with (set by pick and place)
     retreat: tuple[float, ...] | None = None
     released: str | None = None
+    #: m each finger stands off ``released`` while the arm backs off (None: the world's
+    #: ``RELEASE_SLACK``); a put-down may open less where a neighbour stands close
+    release_slack: float | None = None
 
 
 ARM_FIELDS = frozenset(ArmState.__dataclass_fields__)

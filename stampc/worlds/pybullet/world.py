@@ -22,7 +22,8 @@ from stampc.worlds.pybullet.state import ARM_FIELDS, Arm, ArmState, Geometry, Wo
 from stampc.worlds.pybullet.values import Pose, quat_from_yaw
 
 __all__ = ["PyBulletWorld", "WorldState", "ArmState", "Arm", "Geometry", "PENETRATION",
-           "CLEARANCE", "G_ROBOT", "G_HELD", "G_MOVABLE", "G_STATIC", "G_UAV"]
+           "CLEARANCE", "FINGER_SLACK", "RELEASE_SLACK", "G_ROBOT", "G_HELD", "G_MOVABLE",
+           "G_STATIC", "G_UAV"]
 
 #: m each finger stands off the held object's side, and off the one just let go
 FINGER_SLACK, RELEASE_SLACK = 0.001, 0.005
@@ -213,7 +214,7 @@ class PyBulletWorld:
             return None if x is None else (r(x.pos), r(x.quat))
 
         arms = tuple((r(a.q), pose(a.base), a.base_name, a.held, pose(a.grip), r(a.retreat),
-                      a.released) for a in state.arms)
+                      a.released, a.release_slack) for a in state.arms)
         return (arms, tuple((n, pose(x)) for n, x in state.poses), pose(state.uav),
                 round(state.battery, 6), tuple(sorted(state.removed)),
                 tuple((n, pose(x)) for n, x in state.resting))
@@ -287,9 +288,13 @@ class PyBulletWorld:
 
     def update(self, **changes: object) -> None:
         """Replace fields of the current state (and move bodies accordingly); the
-        per-robot fields (``q``, ``held``, ``grip``, ``retreat``, ``released``, ``base``,
-        ``base_name``) change the active robot's."""
+        per-robot fields (``q``, ``held``, ``grip``, ``retreat``, ``released``,
+        ``release_slack``, ``base``, ``base_name``) change the active robot's. A change of
+        ``released`` resets ``release_slack`` to the default unless given too: a stale
+        slack would keep equal states from merging."""
         arm_changes = {k: v for k, v in changes.items() if k in ARM_FIELDS}
+        if "released" in arm_changes:
+            arm_changes.setdefault("release_slack", None)
         state = replace(self._state, **{k: v for k, v in changes.items()
                                         if k not in ARM_FIELDS})
         if arm_changes:
@@ -334,7 +339,8 @@ class PyBulletWorld:
     def _grip_openings(self, index: int) -> tuple[float, float]:
         """The finger opening of arm ``index`` in its state (closed on the held object,
         ``FINGER_SLACK`` wider; else wide open) and during the retreat that starts
-        there (around the object just let go, ``RELEASE_SLACK`` wider). Fully open
+        there (around the object just let go, ``RELEASE_SLACK`` wider or the state's
+        ``release_slack``). Fully open
         fingers around a held plank reach 2 cm past it: into the next tower's plank on
         Keva's 3-towers, a collision no real hand has."""
         arm, state = self.arms[self._arm_order[index]], self._state.arms[index]
@@ -345,8 +351,9 @@ class PyBulletWorld:
             return held, held
         if state.released is not None and state.released in self.geometry:
             turn = self._ee_pose(arm).inverse().multiply(self._state.pose(state.released))
+            slack = RELEASE_SLACK if state.release_slack is None else state.release_slack
             return wide, min(wide, self.geometry[state.released].half_extent(turn.quat, _CLOSING)
-                             + RELEASE_SLACK)
+                             + slack)
         return wide, wide
 
     def _apply_fingers(self, index: int, opening: float, force: bool = False) -> None:
