@@ -99,9 +99,19 @@ def _nearest(world, a: int, b: int) -> float:
     return min((c[8] for c in points), default=float("inf"))
 
 
+def _bisect(put, gap: float) -> None:
+    """Call ``put(offset)`` (which moves a body and returns its distance to the robot)
+    at the offset in [0, 0.3] m where that distance is just under ``gap``."""
+    lo, hi = 0.0, 0.3  # lo nearer than gap, hi farther
+    for _ in range(40):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if put(mid) < gap else (lo, mid)
+    put(lo)
+
+
 def _can_near_hand(world, name: str, gap: float) -> None:
     """Stand can ``name`` (in the air, at the hand's height) beside the hand, just under
-    ``gap`` (m) from the robot by Bullet's measure (bisection on the offset)."""
+    ``gap`` (m) from the robot by Bullet's measure."""
     hand = p.getLinkState(world.robot, world.model.ee_link, physicsClientId=world.client)[4]
 
     def put(offset: float) -> float:
@@ -109,11 +119,23 @@ def _can_near_hand(world, name: str, gap: float) -> None:
         world.update(poses=tuple((n, at if n == name else x) for n, x in world.state.poses))
         return _nearest(world, world.robot, world.body[name])
 
-    lo, hi = 0.0, 0.3  # offsets along -y: lo nearer than gap, hi farther
-    for _ in range(40):
-        mid = (lo + hi) / 2
-        lo, hi = (mid, hi) if put(mid) < gap else (lo, mid)
-    put(lo)
+    _bisect(put, gap)
+
+
+def _static_under_hand(world, body: int, gap: float) -> None:
+    """Raise static ``body`` (straight up from where it stands) until it is just under
+    ``gap`` (m) from the robot: statics are moved by hand here, no state holds them."""
+    pos, quat = p.getBasePositionAndOrientation(body, physicsClientId=world.client)
+    top = p.getAABB(body, physicsClientId=world.client)[1][2]
+    hand = p.getLinkState(world.robot, world.model.ee_link, physicsClientId=world.client)[4]
+
+    def put(offset: float) -> float:
+        z = pos[2] + (hand[2] - offset - top)  # its top ``offset`` below the hand's origin
+        p.resetBasePositionAndOrientation(body, (pos[0], pos[1], z), quat,
+                                          physicsClientId=world.client)
+        return _nearest(world, world.robot, body)
+
+    _bisect(put, gap)
 
 
 def test_planning_keeps_a_clearance_from_movable_objects_and_the_recheck_does_not():
@@ -143,6 +165,24 @@ def test_planning_keeps_a_clearance_from_movable_objects_and_the_recheck_does_no
         _can_near_hand(world, "can0", -3 * PENETRATION)  # deeper
         assert "can0" in pybullet_recheck(world, ConcreteAction("move", {"t": traj}))
 
+
+
+def test_a_static_body_gets_no_clearance_only_the_resting_tolerance():
+    """The table 0.5 mm under the robot is no hit, with or without the clearance
+    (statics never move: their planned geometry is what execution meets); 0.05 mm into
+    it, within the resting-contact tolerance, neither; 0.3 mm into it, a hit for both."""
+    from stampc.worlds.pybullet.world import CLEARANCE, PENETRATION
+
+    with open_world(cluttered_table(15, seed=1), seed=0) as world:
+        q = world.state.q
+        world.set_arm(q)
+        table = next(b for b in world.static_ids if world.name_of.get(b) == "table")
+        for gap, hit in ((CLEARANCE / 2, False), (-PENETRATION / 2, False),
+                         (-3 * PENETRATION, True)):
+            _static_under_hand(world, table, gap)
+            assert gap - 1e-4 < _nearest(world, world.robot, table) < gap
+            assert (table in world.hits(q, clearance=CLEARANCE)[0]) == hit
+            assert (table in world.hits(q)[0]) == hit
 
 def test_blocked_target_falls_back_and_names_blockers(clutter):
     scene = cluttered_table(15, seed=1)
