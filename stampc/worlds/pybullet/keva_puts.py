@@ -136,9 +136,9 @@ def open_to_release(world: PyBulletWorld) -> None:
     for the back-off: the widest of ``RELEASE_SLACKS`` whose straight retreat keeps the
     planning clearance from everything (the plank let go excepted); else the slack they
     held the plank with, along the reverse of the approach the put config was chosen
-    for. A fixed 5 mm put a finger 0.01-0.7 mm from the neighbouring plank of a tall
-    tower's level (Keva tower-24 seed 2): refused on every re-sample, since IK from
-    rest is deterministic."""
+    for. A fixed 5 mm ran a finger into the level's other plank high in a 24-level
+    tower (seed 9, never solved) or within 1 mm of it (seed 2): refused on every
+    re-sample, since IK from rest is deterministic."""
     state = world.state
     retreat = Traj((state.q, state.retreat or state.q), released=state.released, retreat_end=1)
     for slack in RELEASE_SLACKS[:-1]:
