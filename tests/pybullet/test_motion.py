@@ -166,7 +166,6 @@ def test_planning_keeps_a_clearance_from_movable_objects_and_the_recheck_does_no
         assert "can0" in pybullet_recheck(world, ConcreteAction("move", {"t": traj}))
 
 
-
 def test_a_static_body_gets_no_clearance_only_the_resting_tolerance():
     """The table 0.5 mm under the robot is no hit, with or without the clearance
     (statics never move: their planned geometry is what execution meets); 0.05 mm into
@@ -183,6 +182,7 @@ def test_a_static_body_gets_no_clearance_only_the_resting_tolerance():
             assert gap - 1e-4 < _nearest(world, world.robot, table) < gap
             assert (table in world.hits(q, clearance=CLEARANCE)[0]) == hit
             assert (table in world.hits(q)[0]) == hit
+
 
 def test_blocked_target_falls_back_and_names_blockers(clutter):
     scene = cluttered_table(15, seed=1)
