@@ -339,10 +339,10 @@ class PyBulletWorld:
     def _grip_openings(self, index: int) -> tuple[float, float]:
         """The finger opening of arm ``index`` in its state (closed on the held object,
         ``FINGER_SLACK`` wider; else wide open) and during the retreat that starts
-        there (around the object just let go, ``RELEASE_SLACK`` wider or the state's
-        ``release_slack``). Fully open
-        fingers around a held plank reach 2 cm past it: into the next tower's plank on
-        Keva's 3-towers, a collision no real hand has."""
+        there (around the object just let go, the state's ``release_slack`` wider, by
+        default ``RELEASE_SLACK``). Fully open fingers around a held plank reach 2 cm
+        past it: into the next tower's plank on Keva's 3-towers, a collision no real
+        hand has."""
         arm, state = self.arms[self._arm_order[index]], self._state.arms[index]
         wide = arm.model.finger_open
         if state.held is not None and state.grip is not None and state.held in self.geometry:
