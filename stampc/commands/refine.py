@@ -51,6 +51,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write an obstruction by an object the previous action just "
                              "placed into the abstract state, instead of re-sampling that "
                              "placement first (docs/refine.md)")
+    parser.add_argument("--fewest-facts", action="store_true",
+                        help="when every sample of a full search fails, write back the "
+                             "sample with the fewest violated facts, instead of the one "
+                             "leaving the abstract goal cheapest (docs/refine.md)")
     parser.add_argument("--achievers-first", action="store_true",
                         help="re-sample the steps that made the failing action's "
                              "preconditions true before other ancestors (docs/refine.md)")
@@ -105,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
         accept_dead_end_after=args.accept_dead_end_after,
         solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
         resample_placers=not args.no_resample_placers,
+        learn_cheapest=not args.fewest_facts,
         achievers_first=args.achievers_first,
         selection=args.selection,
         adaptive_solve_cap=not args.fixed_solve_cap,

@@ -34,8 +34,9 @@ class Failure:
     """No sample satisfied the action's concrete preconditions.
 
     ``violated`` holds the true values of the violated ``?`` literals for the best
-    sample (fewest violations): what UpdateAbstraction writes back. It is empty when the
-    generators themselves produced nothing usable.
+    sample (fewest violations): what UpdateAbstraction writes back unless the engine
+    prefers another of ``alternatives``. It is empty when the generators themselves
+    produced nothing usable.
     """
 
     violated: tuple[tuple[int, bool], ...]
@@ -44,6 +45,10 @@ class Failure:
     #: the search stopped at its first complete sample (UpdateAbstraction's quick mode)
     #: instead of trying every one: ``violated`` speaks for that sample only
     quick: bool = False
+    #: the distinct ``violated`` sets of every complete sample tried, fewest first
+    #: (``violated`` among them): which one is written back is the engine's choice,
+    #: since only the abstract model knows which facts leave it the cheaper way
+    alternatives: tuple[tuple[tuple[int, bool], ...], ...] = ()
 
 
 class Concretizer:
@@ -139,6 +144,7 @@ class Concretizer:
         search backtracks through every generator's budget (Concretization mode).
         """
         best: Failure | None = None
+        seen: dict[tuple[tuple[int, bool], ...], None] = {}  # ordered: first met first
         samples = 0
         for sigma in self._assignments(action, concrete_snapshot, cache, values,
                                        node_uid, attempt, 0, {}):
@@ -148,6 +154,7 @@ class Concretizer:
             violated = self.violations(ctx, action, {**values, **sigma})
             if not violated:
                 return Success(dict(sigma))
+            seen.setdefault(tuple(violated))
             if best is None or len(violated) < len(best.violated):
                 best = Failure(tuple(violated), dict(sigma), samples)
             if quick:
@@ -158,7 +165,8 @@ class Concretizer:
             self.world.restore(concrete_snapshot)
             ctx = self._context(cache, values, node_uid, attempt, -1)
             return Failure(tuple(self.violations(ctx, action, values)), {}, samples)
-        return Failure(best.violated, best.sigma, samples, quick)
+        return Failure(best.violated, best.sigma, samples, quick,
+                       tuple(sorted(seen, key=len)))
 
     def _assignments(self, action: GroundAction, snapshot: Any, cache: dict,
                      values: Mapping[str, Any], uid: int, attempt: int, i: int,

@@ -97,6 +97,13 @@ class RefineOptions:
     #: ancestor, up to ``max_resamples`` times, instead of being written into the
     #: abstract state (docs/refine.md, "Placements in the way")
     resample_placers: bool = True
+    #: of the facts a failed full search could write back (one set per sample tried),
+    #: the set leaving the abstract state the lowest relaxed cost to the goal (h_add
+    #: with those facts written; fewest facts among equals), not just the fewest
+    #: facts: a grasp blocked by a can that is itself stuck behind the grasped can is
+    #: learned last (cluttered-60 seed 9 accepted a false dead end on two such pairs;
+    #: docs/refine.md, "Which failure is learned"). Off: the fewest facts, as before.
+    learn_cheapest: bool = True
     #: a re-sample with no ancestor generating a value of the failing action is taken
     #: among the achievers of its preconditions first (docs/refine.md). Off by default:
     #: it solved Keva tower-24 seed 9 (0.0002 → solved in 92 s; with the keva `places`

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Callable
 from stampc.refine.backtracking import fact_labels, has_way
 from stampc.refine.concretize import Failure
 from stampc.refine.graph import Node, PolicyGraph
+from stampc.solvers.heuristics import make_heuristic
 
 if TYPE_CHECKING:
     from stampc.ir.grounded import GroundModel
@@ -32,6 +33,8 @@ class Updating:
     _notes: list[str]
     _full_search: set[int]
     _dead_ends_met: dict[int, int]
+    #: h_add for ``_to_learn``, made on first use (its cache lives with the run)
+    _learning_cost: "Callable[[int], float] | None"
     _track: "Callable[[int, PolicyGraph], None]"
 
     def _on_failure(self, graph: PolicyGraph, path: tuple[int, ...],
@@ -40,7 +43,7 @@ class Updating:
         if failure.violated:
             # facts of `? predicate`s become bans in every state instead of state bits,
             # so the branches that learned one still merge with those that did not
-            learned = self._ban_against_fixed_facts(failure.violated)
+            learned = self._ban_against_fixed_facts(self._to_learn(node.state, failure))
             self.memory.remember(learned)
             placer = self._placer_of_blocker(graph, path, learned)
             if placer is not None:
@@ -71,6 +74,23 @@ class Updating:
         self._bans[(node.state, node.action)] = node.uid
         self._ban_everywhere_if_hopeless(node.action, node.state)
         return self._update(graph, node, (), "ban", path)
+
+    def _to_learn(self, state: int, failure: Failure) -> tuple[tuple[int, bool], ...]:
+        """Which sample's violated facts to write back (``learn_cheapest``): the set
+        whose written state has the lowest h_add (an infinite one — a relaxed dead end —
+        last), fewest facts among equals. Every set is true of the concrete state, each
+        of its own sample; the abstraction keeps one symbol per generated value, so the
+        set written stands for every sample later, and the cheapest leaves the replan
+        the most ways."""
+        options = failure.alternatives
+        if not self.options.learn_cheapest or len(options) < 2:
+            return failure.violated
+        if self._learning_cost is None:
+            self._learning_cost = make_heuristic("hadd", self.planner.solve_model,
+                                                 self.options.solver.unit_cost)
+        cost = self._learning_cost
+        return min(options, key=lambda facts: (cost(self._with_facts(state, facts)),
+                                               len(facts)))
 
     def _ban_no_progress(self, graph: PolicyGraph, path: tuple[int, ...], learned) -> None:
         """When the facts ``learned`` at the path's last node bring it back to the abstract
