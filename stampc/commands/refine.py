@@ -53,8 +53,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "placement first (docs/refine.md)")
     parser.add_argument("--fewest-facts", action="store_true",
                         help="when every sample of a full search fails, write back the "
-                             "sample with the fewest violated facts, instead of the one "
-                             "leaving the abstract goal cheapest (docs/refine.md)")
+                             "sample with the fewest violated facts, even one that locks "
+                             "an action (docs/refine.md)")
     parser.add_argument("--achievers-first", action="store_true",
                         help="re-sample the steps that made the failing action's "
                              "preconditions true before other ancestors (docs/refine.md)")

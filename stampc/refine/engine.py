@@ -74,7 +74,7 @@ class Engine(Updating, Backtracking, Reporting):
         self._dead_ends_met: dict[int, int] = {}
         #: nodes that must search every sample next (``_concretize_quickly``)
         self._full_search: set[int] = set()
-        self._learning_cost = None
+        self._learning = None
         self.best_prg = 0
         self.best = (-1.0, -1.0)
         self.events: list[ProgressEvent] = []

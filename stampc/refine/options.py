@@ -98,11 +98,10 @@ class RefineOptions:
     #: abstract state (docs/refine.md, "Placements in the way")
     resample_placers: bool = True
     #: of the facts a failed full search could write back (one set per sample tried),
-    #: the set leaving the abstract state the lowest relaxed cost to the goal (h_add
-    #: with those facts written; fewest facts among equals), not just the fewest
-    #: facts: a grasp blocked by a can that is itself stuck behind the grasped can is
-    #: learned last (cluttered-60 seed 9 accepted a false dead end on two such pairs;
-    #: docs/refine.md, "Which failure is learned"). Off: the fewest facts, as before.
+    #: one that leaves the goal a relaxed way and locks no action (an obstruction by an
+    #: object whose own action the failing one's object already obstructs), then the
+    #: fewest facts, then the lowest h_add (stampc/refine/learning.py): cluttered-60
+    #: seed 9 accepted a false dead end on two such locks. Off: the fewest facts only.
     learn_cheapest: bool = True
     #: a re-sample with no ancestor generating a value of the failing action is taken
     #: among the achievers of its preconditions first (docs/refine.md). Off by default:

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Callable
 from stampc.refine.backtracking import fact_labels, has_way
 from stampc.refine.concretize import Failure
 from stampc.refine.graph import Node, PolicyGraph
+from stampc.refine.learning import LearningChoice
 from stampc.solvers.heuristics import make_heuristic
 
 if TYPE_CHECKING:
@@ -33,8 +34,8 @@ class Updating:
     _notes: list[str]
     _full_search: set[int]
     _dead_ends_met: dict[int, int]
-    #: h_add for ``_to_learn``, made on first use (its cache lives with the run)
-    _learning_cost: "Callable[[int], float] | None"
+    #: ``_to_learn``'s ranking, made on first use (its h_add cache lives with the run)
+    _learning: "LearningChoice | None"
     _track: "Callable[[int, PolicyGraph], None]"
 
     def _on_failure(self, graph: PolicyGraph, path: tuple[int, ...],
@@ -43,7 +44,7 @@ class Updating:
         if failure.violated:
             # facts of `? predicate`s become bans in every state instead of state bits,
             # so the branches that learned one still merge with those that did not
-            learned = self._ban_against_fixed_facts(self._to_learn(node.state, failure))
+            learned = self._ban_against_fixed_facts(self._to_learn(node, failure))
             self.memory.remember(learned)
             placer = self._placer_of_blocker(graph, path, learned)
             if placer is not None:
@@ -75,22 +76,17 @@ class Updating:
         self._ban_everywhere_if_hopeless(node.action, node.state)
         return self._update(graph, node, (), "ban", path)
 
-    def _to_learn(self, state: int, failure: Failure) -> tuple[tuple[int, bool], ...]:
-        """Which sample's violated facts to write back (``learn_cheapest``): the set
-        whose written state has the lowest h_add (an infinite one — a relaxed dead end —
-        last), fewest facts among equals. Every set is true of the concrete state, each
-        of its own sample; the abstraction keeps one symbol per generated value, so the
-        set written stands for every sample later, and the cheapest leaves the replan
-        the most ways."""
+    def _to_learn(self, node: Node, failure: Failure) -> tuple[tuple[int, bool], ...]:
+        """Which sample's violated facts to write back at ``node`` (``learn_cheapest``;
+        learning.py): one that locks no action, else the fewest facts."""
         options = failure.alternatives
-        if not self.options.learn_cheapest or len(options) < 2:
+        if not self.options.learn_cheapest or len(options) < 2 or node.action is None:
             return failure.violated
-        if self._learning_cost is None:
-            self._learning_cost = make_heuristic("hadd", self.planner.solve_model,
-                                                 self.options.solver.unit_cost)
-        cost = self._learning_cost
-        return min(options, key=lambda facts: (cost(self._with_facts(state, facts)),
-                                               len(facts)))
+        if self._learning is None:
+            cost = make_heuristic("hadd", self.planner.solve_model,
+                                  self.options.solver.unit_cost)
+            self._learning = LearningChoice(self.model, cost)
+        return self._learning.best(node.state, node.action, options, self._with_facts)
 
     def _ban_no_progress(self, graph: PolicyGraph, path: tuple[int, ...], learned) -> None:
         """When the facts ``learned`` at the path's last node bring it back to the abstract

@@ -1,11 +1,12 @@
-"""Which failed sample's facts UpdateAbstraction writes back (``learn_cheapest``): the
-full search reports every sample's violated facts, and the engine writes the set that
-leaves the abstract goal cheapest, not merely the smallest. Real PyBullet + OMPL world,
+"""Which failed sample's facts UpdateAbstraction writes back (``learn_cheapest``,
+stampc/refine/learning.py): the full search reports every sample's violated facts, and
+the engine writes a set that locks no action, not merely the smallest. Real PyBullet + OMPL world,
 the cluttered table's fixed-base example (its target starts behind arranged blockers,
 which the Panda's four top grasps meet differently)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -15,6 +16,8 @@ import stampc
 from stampc.refine import Engine, RefineOptions
 from stampc.refine.concretize import Failure
 from stampc.refine.graph import path_values
+from stampc.refine.learning import LearningChoice
+from stampc.solvers.heuristics import make_heuristic
 from stampc.worlds.bindings import resolve_model
 from stampc.worlds.loading import load_scene, open_world
 
@@ -68,21 +71,77 @@ def test_a_failed_search_reports_every_samples_violations(engine_at_root, quick)
         assert len(failure.alternatives) >= 2 and failure.samples >= 2
 
 
-def test_the_facts_leaving_the_goal_cheapest_are_written(engine_at_root):
-    """can0's pick blocked by can1 (whose own pick can0 blocks: a relaxed dead end) or
-    by can1 and can2 (both movable): the second set is larger and the one to learn."""
+def _mobile():
+    """The mobile-base table (target can12, four base poses), ground, and its choice."""
+    model = stampc.ground(stampc.load_model([EXAMPLE / "domain.stamp",
+                                             EXAMPLE / "problem.stamp"]))
+    choice = LearningChoice(model, make_heuristic("hadd", model, False))
+    return model, choice
+
+
+def _written(model):
+    def written(state, facts):
+        for f, value in facts:
+            state = state | (1 << f) if value else state & ~(1 << f)
+        return model.axioms.close(state)
+    return written
+
+
+def _index(model, name: str) -> int:
+    return next(i for i, f in enumerate(model.facts) if str(f) == name)
+
+
+def test_an_obstruction_by_a_can_that_the_picked_can_obstructs_is_learned_last():
+    """The pick of can12 from b3 fails: one grasp meets can1, whose own pick from b3
+    can12 is known to block (a lock from that base); another meets can2 and can3. The
+    relaxed goal cost is finite either way (other bases), so h_add cannot tell; the
+    larger, lock-free set is learned, and without the rule the smaller one."""
+    model, choice = _mobile()
+    written = _written(model)
+    pick = next(a.index for a in model.actions if a.label.startswith("pick(can12, pose_can12, b3,"))
+    t12 = "t_pick_can12_pose_can12_b3"
+    state = model.init | (1 << _index(model, "collision(can12, t_pick_can1_pose_can1_b3)"))
+    lock = ((_index(model, f"collision(can1, {t12})"), True),)
+    free = ((_index(model, f"collision(can2, {t12})"), True),
+            (_index(model, f"collision(can3, {t12})"), True))
+    mine = {"can12", "b3"}
+    assert choice.mutual(state, mine, lock) == 1 and choice.mutual(state, mine, free) == 0
+    assert choice.cost(written(state, lock)) < math.inf  # the relaxation goes round it
+    assert choice.best(state, pick, (lock, free), written) == free
+    # the same obstruction is no lock while can12 does not block can1's pick
+    assert choice.mutual(model.init, mine, lock) == 0
+    assert choice.best(model.init, pick, (lock, free), written) == lock
+    # blocked from another base only: b1's pick of can1 is not this lock
+    other = model.init | (1 << _index(model, "collision(can12, t_pick_can1_pose_can1_b1)"))
+    assert choice.mutual(other, mine, lock) == 0
+
+
+def test_a_relaxed_dead_end_is_learned_last():
+    """On the fixed-base table (one robot pose) the same lock leaves the goal no relaxed
+    way at all: ranked behind the other set before anything else."""
+    model = stampc.ground(stampc.load_model(FILES))
+    choice = LearningChoice(model, make_heuristic("hadd", model, False))
+    written = _written(model)
+    pick = next(a.index for a in model.actions if a.label.startswith("pick(can0, pose_can0,"))
+    state = model.init | (1 << _index(model, "collision(can0, t_pick_can1_pose_can1)"))
+    stuck = ((_index(model, "collision(can1, t_pick_can0_pose_can0)"), True),)
+    free = ((_index(model, "collision(can2, t_pick_can0_pose_can0)"), True),
+            (_index(model, "collision(can3, t_pick_can0_pose_can0)"), True))
+    assert choice.cost(written(state, stuck)) == math.inf
+    assert choice.cost(written(state, free)) < math.inf
+    assert choice.best(state, pick, (stuck, free), written) == free
+
+
+def test_the_engine_learns_by_the_choice_unless_told_otherwise(engine_at_root):
     engine = engine_at_root
-    state = engine.model.init | (1 << _fact(engine, "collision(can0, t_pick_can1_pose_can1)"))
+    graph = engine.prg.nodes[engine.current]["graph"]
+    node = graph[graph.root]
+    state = node.state | (1 << _fact(engine, "collision(can0, t_pick_can1_pose_can1)"))
+    node = dataclasses.replace(node, state=state, action=_pick_target(engine)[0].index)
     stuck = ((_fact(engine, "collision(can1, t_pick_can0_pose_can0)"), True),)
-    movable = ((_fact(engine, "collision(can2, t_pick_can0_pose_can0)"), True),
-               (_fact(engine, "collision(can3, t_pick_can0_pose_can0)"), True))
-    failure = Failure(stuck, {}, 2, alternatives=(stuck, movable))
-    assert engine._to_learn(state, failure) == movable
-    # the relaxed costs behind the choice: the stuck set leaves no way at all
-    cost = engine._learning_cost
-    assert cost(engine._with_facts(state, stuck)) == math.inf
-    assert cost(engine._with_facts(state, movable)) < math.inf
-    # among sets of equal cost the smaller one; and off, the smallest (the old choice)
-    assert engine._to_learn(state, Failure(movable, {}, 2, alternatives=(movable,))) == movable
+    free = ((_fact(engine, "collision(can2, t_pick_can0_pose_can0)"), True),
+            (_fact(engine, "collision(can3, t_pick_can0_pose_can0)"), True))
+    failure = Failure(stuck, {}, 2, alternatives=(stuck, free))
+    assert engine._to_learn(node, failure) == free
     engine.options = RefineOptions(seed=0, learn_cheapest=False)
-    assert engine._to_learn(state, failure) == stuck
+    assert engine._to_learn(node, failure) == stuck
