@@ -17,6 +17,9 @@ The choice, in order (``LearningChoice.rank``):
    objects (the pick of can53 from the same base b0);
 3. fewest facts (the previous rule, alone);
 4. the lowest h_add of the goal with the set written.
+A quick failure (one sample) whose facts would lock an action is not learned: the node
+searches every sample first (``Updating._locks_on_one_sample``).
+
 h_add alone hardly separates the sets: the relaxation moves a blocker from another base
 pose, so it does not see the lock (the sets of that pick cost 11.0 each).
 """
@@ -63,11 +66,15 @@ class LearningChoice:
     def _objects(self, args: Iterable[str]) -> set[str]:
         return {a for a in args if a not in self._symbols}
 
+    def objects_of(self, action: int) -> set[str]:
+        """The ground action's arguments that are objects, not generated symbols."""
+        return self._objects(self.model.actions[action].args)
+
     def best(self, state: int, action: int, options: tuple[Facts, ...],
              written: Callable[[int, Facts], int]) -> Facts:
         """The set to learn at ``state`` for the failing ground ``action``
         (``written``: the state with a set written)."""
-        mine = self._objects(self.model.actions[action].args)
+        mine = self.objects_of(action)
         return min(options, key=lambda facts: self.rank(state, mine, facts, written))
 
     def rank(self, state: int, mine: set[str], facts: Facts,

@@ -41,6 +41,10 @@ class Updating:
     def _on_failure(self, graph: PolicyGraph, path: tuple[int, ...],
                     failure: Failure, values) -> tuple[str, str]:
         node = graph[path[-1]]
+        if failure.violated and self._locks_on_one_sample(node, failure):
+            self._full_search.add(node.uid)
+            return "retry", (f"{self.model.actions[node.action].label}: the quick sample's "
+                             "facts would lock an action; every sample is searched first")
         if failure.violated:
             # facts of `? predicate`s become bans in every state instead of state bits,
             # so the branches that learned one still merge with those that did not
@@ -79,14 +83,29 @@ class Updating:
     def _to_learn(self, node: Node, failure: Failure) -> tuple[tuple[int, bool], ...]:
         """Which sample's violated facts to write back at ``node`` (``learn_cheapest``;
         learning.py): one that locks no action, else the fewest facts."""
-        options = failure.alternatives
-        if not self.options.learn_cheapest or len(options) < 2 or node.action is None:
+        options, choice = failure.alternatives, self._choice(node)
+        if len(options) < 2 or choice is None or node.action is None:
             return failure.violated
+        return choice.best(node.state, node.action, options, self._with_facts)
+
+    def _locks_on_one_sample(self, node: Node, failure: Failure) -> bool:
+        """Whether a quick failure's facts (one sample's) would lock an action: then
+        the node searches every sample before anything is learned (``learn_cheapest``)."""
+        choice = self._choice(node)
+        if not failure.quick or node.uid in self._full_search or choice is None \
+                or node.action is None:
+            return False
+        mine = choice.objects_of(node.action)
+        return choice.mutual(node.state, mine, failure.violated) > 0
+
+    def _choice(self, node: Node) -> LearningChoice | None:
+        if not self.options.learn_cheapest or node.action is None:
+            return None
         if self._learning is None:
             cost = make_heuristic("hadd", self.planner.solve_model,
                                   self.options.solver.unit_cost)
             self._learning = LearningChoice(self.model, cost)
-        return self._learning.best(node.state, node.action, options, self._with_facts)
+        return self._learning
 
     def _ban_no_progress(self, graph: PolicyGraph, path: tuple[int, ...], learned) -> None:
         """When the facts ``learned`` at the path's last node bring it back to the abstract

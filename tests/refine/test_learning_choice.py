@@ -145,3 +145,22 @@ def test_the_engine_learns_by_the_choice_unless_told_otherwise(engine_at_root):
     assert engine._to_learn(node, failure) == free
     engine.options = RefineOptions(seed=0, learn_cheapest=False)
     assert engine._to_learn(node, failure) == stuck
+
+
+def test_a_quick_sample_that_would_lock_an_action_is_searched_fully_first(engine_at_root):
+    engine = engine_at_root
+    graph = engine.prg.nodes[engine.current]["graph"]
+    node = graph.own(graph.root)
+    node.state |= 1 << _fact(engine, "collision(can0, t_pick_can1_pose_can1)")
+    node.action = _pick_target(engine)[0].index
+    stuck = ((_fact(engine, "collision(can1, t_pick_can0_pose_can0)"), True),)
+    values = path_values(graph, (), engine.initial_values)
+    kind, detail = engine._on_failure(graph, (node.uid,),
+                                      Failure(stuck, {}, 1, quick=True, alternatives=(stuck,)),
+                                      values)
+    assert kind == "retry" and "every sample" in detail
+    assert engine._concretize_quickly(node, 0.0) is False  # the next try searches all
+    # a full search's facts are learned, lock or not (no other sample was better)
+    kind, _ = engine._on_failure(graph, (node.uid,),
+                                 Failure(stuck, {}, 4, alternatives=(stuck,)), values)
+    assert kind != "retry"
