@@ -109,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
         accept_dead_end_after=args.accept_dead_end_after,
         solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
         resample_placers=not args.no_resample_placers,
-        learn_cheapest=not args.fewest_facts,
+        learn_lock_free=not args.fewest_facts,
         achievers_first=args.achievers_first,
         selection=args.selection,
         adaptive_solve_cap=not args.fixed_solve_cap,

@@ -80,9 +80,9 @@ class LearningChoice:
     def rank(self, state: int, mine: set[str], facts: Facts,
              written: Callable[[int, Facts], int]) -> tuple:
         h = self.cost(written(state, facts))
-        return (h == float("inf"), self.mutual(state, mine, facts), len(facts), h)
+        return (h == float("inf"), self.locks(state, mine, facts), len(facts), h)
 
-    def mutual(self, state: int, mine: set[str], facts: Facts) -> int:
+    def locks(self, state: int, mine: set[str], facts: Facts) -> int:
         """How many facts learned true name an object whose own action the state already
         has obstructed by one of ``mine`` (the failing action's objects)."""
         count = 0

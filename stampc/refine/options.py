@@ -102,7 +102,7 @@ class RefineOptions:
     #: object whose own action the failing one's object already obstructs), then the
     #: fewest facts, then the lowest h_add (stampc/refine/learning.py): cluttered-60
     #: seed 9 accepted a false dead end on two such locks. Off: the fewest facts only.
-    learn_cheapest: bool = True
+    learn_lock_free: bool = True
     #: a re-sample with no ancestor generating a value of the failing action is taken
     #: among the achievers of its preconditions first (docs/refine.md). Off by default:
     #: it solved Keva tower-24 seed 9 (0.0002 → solved in 92 s; with the keva `places`

@@ -81,7 +81,7 @@ class Updating:
         return self._update(graph, node, (), "ban", path)
 
     def _to_learn(self, node: Node, failure: Failure) -> tuple[tuple[int, bool], ...]:
-        """Which sample's violated facts to write back at ``node`` (``learn_cheapest``;
+        """Which sample's violated facts to write back at ``node`` (``learn_lock_free``;
         learning.py): one that locks no action, else the fewest facts."""
         options, choice = failure.alternatives, self._choice(node)
         if len(options) < 2 or choice is None or node.action is None:
@@ -90,16 +90,16 @@ class Updating:
 
     def _locks_on_one_sample(self, node: Node, failure: Failure) -> bool:
         """Whether a quick failure's facts (one sample's) would lock an action: then
-        the node searches every sample before anything is learned (``learn_cheapest``)."""
+        the node searches every sample before anything is learned (``learn_lock_free``)."""
         choice = self._choice(node)
         if not failure.quick or node.uid in self._full_search or choice is None \
                 or node.action is None:
             return False
         mine = choice.objects_of(node.action)
-        return choice.mutual(node.state, mine, failure.violated) > 0
+        return choice.locks(node.state, mine, failure.violated) > 0
 
     def _choice(self, node: Node) -> LearningChoice | None:
-        if not self.options.learn_cheapest or node.action is None:
+        if not self.options.learn_lock_free or node.action is None:
             return None
         if self._learning is None:
             cost = make_heuristic("hadd", self.planner.solve_model,

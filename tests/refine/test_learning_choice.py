@@ -1,4 +1,4 @@
-"""Which failed sample's facts UpdateAbstraction writes back (``learn_cheapest``,
+"""Which failed sample's facts UpdateAbstraction writes back (``learn_lock_free``,
 stampc/refine/learning.py): the full search reports every sample's violated facts, and
 the engine writes a set that locks no action, not merely the smallest. Real PyBullet + OMPL world,
 the cluttered table's fixed-base example (its target starts behind arranged blockers,
@@ -105,15 +105,15 @@ def test_an_obstruction_by_a_can_that_the_picked_can_obstructs_is_learned_last()
     free = ((_index(model, f"collision(can2, {t12})"), True),
             (_index(model, f"collision(can3, {t12})"), True))
     mine = {"can12", "b3"}
-    assert choice.mutual(state, mine, lock) == 1 and choice.mutual(state, mine, free) == 0
+    assert choice.locks(state, mine, lock) == 1 and choice.locks(state, mine, free) == 0
     assert choice.cost(written(state, lock)) < math.inf  # the relaxation goes round it
     assert choice.best(state, pick, (lock, free), written) == free
     # the same obstruction is no lock while can12 does not block can1's pick
-    assert choice.mutual(model.init, mine, lock) == 0
+    assert choice.locks(model.init, mine, lock) == 0
     assert choice.best(model.init, pick, (lock, free), written) == lock
     # blocked from another base only: b1's pick of can1 is not this lock
     other = model.init | (1 << _index(model, "collision(can12, t_pick_can1_pose_can1_b1)"))
-    assert choice.mutual(other, mine, lock) == 0
+    assert choice.locks(other, mine, lock) == 0
 
 
 def test_a_relaxed_dead_end_is_learned_last():
@@ -143,7 +143,7 @@ def test_the_engine_learns_by_the_choice_unless_told_otherwise(engine_at_root):
             (_fact(engine, "collision(can3, t_pick_can0_pose_can0)"), True))
     failure = Failure(stuck, {}, 2, alternatives=(stuck, free))
     assert engine._to_learn(node, failure) == free
-    engine.options = RefineOptions(seed=0, learn_cheapest=False)
+    engine.options = RefineOptions(seed=0, learn_lock_free=False)
     assert engine._to_learn(node, failure) == stuck
 
 
