@@ -75,6 +75,7 @@ class Engine(Updating, Backtracking, Reporting):
         #: nodes that must search every sample next (``_concretize_quickly``)
         self._full_search: set[int] = set()
         self._learning = None
+        self._lock_searched: set[tuple[int, int]] = set()
         self.best_prg = 0
         self.best = (-1.0, -1.0)
         self.events: list[ProgressEvent] = []

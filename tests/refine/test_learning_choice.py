@@ -160,6 +160,10 @@ def test_a_quick_sample_that_would_lock_an_action_is_searched_fully_first(engine
                                       values)
     assert kind == "retry" and "every sample" in detail
     assert engine._concretize_quickly(node, 0.0) is False  # the next try searches all
+    # another node in the same abstract state, with the same action: searched once is enough
+    twin = dataclasses.replace(node, uid=node.uid + 10_000)
+    assert not engine._locks_on_one_sample(
+        twin, Failure(stuck, {}, 1, quick=True, alternatives=(stuck,)))
     # a full search's facts are learned, lock or not (no other sample was better)
     kind, _ = engine._on_failure(graph, (node.uid,),
                                  Failure(stuck, {}, 4, alternatives=(stuck,)), values)
