@@ -371,3 +371,37 @@ def test_drop_and_discard(clutter):
         assert pos == pytest.approx(before.pos) and clutter.present(other)
     finally:
         clutter.restore(s0)
+
+
+def _link_position(world, link: int) -> tuple[float, ...]:
+    return tuple(p.getLinkState(world.robot, link, physicsClientId=world.client)[0])
+
+
+def test_the_arm_folded_into_what_it_puts_down_is_noticed(clutter):
+    """``arm_meets``: a can standing where an arm link is, at the current config, meets
+    the arm; one between the fingertips (where a held can is) does not, and one far away
+    does not; the can's own pose is left as it was. The placement generator refuses
+    configs that meet it (manipulation._place_config)."""
+    from stampc.worlds.pybullet.kinematics import arm_meets
+    from stampc.worlds.pybullet.world import CLEARANCE
+
+    world = clutter
+    world.select()
+    world.set_arm(world.model.rest)
+    name = world.movable_names()[0]
+    before = world.object_pose(name)
+    elbow = Pose(_link_position(world, 3))  # panda_link4: the elbow
+    between_fingers = Pose(_link_position(world, world.model.ee_link))
+    far = Pose((before.pos[0], before.pos[1], before.pos[2] + 3.0))
+    assert arm_meets(world, name, elbow, CLEARANCE)
+    assert not arm_meets(world, name, between_fingers, 0.0)
+    assert not arm_meets(world, name, far, CLEARANCE)
+    actual = p.getBasePositionAndOrientation(world.body[name], physicsClientId=world.client)
+    assert actual[0] == pytest.approx(before.pos, abs=1e-9)
+    # every placement the generator offers stands clear of the arm at its config
+    offered = list(manip.placement(ctx(world, 3, budget=6), name, TABLE["name"]))
+    assert offered
+    for rest, q in offered:
+        world.set_arm(q.q)
+        assert not arm_meets(world, name, rest, CLEARANCE)
+    world.set_arm(world.state.q)

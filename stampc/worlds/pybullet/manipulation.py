@@ -14,12 +14,12 @@ from typing import Iterator
 
 from stampc.diagnostics import Span, StampcError, error
 from stampc.worlds.base import ConcreteAction, Context, missing_parameter_hint
-from stampc.worlds.pybullet.kinematics import (IkSettings, grasp_candidates, solve_ik,
+from stampc.worlds.pybullet.kinematics import (IkSettings, arm_meets, grasp_candidates, solve_ik,
                                                top_grasp)
 from stampc.worlds.pybullet.planning import PlanSettings, PlanStats, counts, plan_swept, sweep
 from stampc.worlds.pybullet.values import (Config, Grasp, Pose, Traj, as_config, as_pose,
                                            as_traj, interpolate, quat_from_yaw, yaw_of)
-from stampc.worlds.pybullet.world import PyBulletWorld
+from stampc.worlds.pybullet.world import CLEARANCE, PyBulletWorld
 
 PLACE_CLEARANCE = 0.002  # m above the surface, so a placed object does not penetrate it
 PLACE_SPACING = 0.01  # m between footprints of placed and present objects
@@ -189,6 +189,9 @@ def _place_config(world: PyBulletWorld, ctx: Context, o: str, target: Pose,
         return None
     robot, base = _owner(world)
     rest = Pose.of((actual.pos[0], actual.pos[1], rest_z), quat_from_yaw(yaw_of(actual.quat)))
+    world.set_arm(q)
+    if arm_meets(world, o, rest, CLEARANCE) or arm_meets(world, o, actual, CLEARANCE):
+        return None  # the arm folded into what it puts down (kinematics.arm_meets)
     return rest, Config.of(q, obj=o, pre=pre, robot=robot, base=base)
 
 
