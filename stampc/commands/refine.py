@@ -5,12 +5,16 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from stampc.commands.common import (EXIT_DONE, EXIT_INPUT, EXIT_STOPPED_SHORT, EXIT_USAGE,
                                     add_input_arguments, count, heuristic_weight,
                                     parse_scene_args, positive_float, positive_int, probability,
                                     prune_probability, reports_errors, sigterm_as_interrupt,
                                     target_coverage)
+
+if TYPE_CHECKING:
+    from stampc.refine import RefineOptions
 
 HELP = "refine an abstract policy with concrete motions (ATM-MDP), anytime"
 
@@ -89,19 +93,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--verbose", action="store_true", help="let simulators print")
 
 
-@reports_errors("refine")
-def run(args: argparse.Namespace) -> int:
-    from stampc import api
+def refine_options(args: argparse.Namespace) -> RefineOptions:
+    """The engine's options from the command line."""
     from stampc.refine import RefineOptions
     from stampc.refine.options import PRUNE_PROBABILITY, SOLVE_WORK_LIMIT
     from stampc.solvers import SolverOptions
 
-    try:
-        overrides = parse_scene_args(args.scene_arg)
-    except ValueError as exc:
-        print(f"stampc refine: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    options = RefineOptions(
+    return RefineOptions(
         seed=args.seed, time_limit=args.time_limit, target_coverage=args.target_coverage,
         update_probability=args.update_probability,
         explore_probability=args.explore_probability, horizon=args.horizon,
@@ -116,6 +114,18 @@ def run(args: argparse.Namespace) -> int:
         solver=SolverOptions(heuristic=args.heuristic, weight=args.weight, seed=args.seed,
                              prune_probability=PRUNE_PROBABILITY if args.prune_probability
                              is None else args.prune_probability))
+
+
+@reports_errors("refine")
+def run(args: argparse.Namespace) -> int:
+    from stampc import api
+
+    try:
+        overrides = parse_scene_args(args.scene_arg)
+    except ValueError as exc:
+        print(f"stampc refine: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    options = refine_options(args)
     # bad input (StampcError, exit 1) and unreadable files (OSError, 2): reports_errors
     with sigterm_as_interrupt(), _progress(args.quiet) as on_event:
         run_ = api.refine_policy(args.files, world=args.world, options=options, on_event=on_event,

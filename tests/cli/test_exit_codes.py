@@ -156,3 +156,17 @@ def test_fixed_solve_cap_reaches_the_engine(tmp_path, capsys):
     _, fixed = _refine_shelf(tmp_path / "f", "--solve-work-limit", "20", "--fixed-solve-cap")
     assert adaptive["solver_timeouts"] > fixed["solver_timeouts"] > 0
     assert adaptive["coverage"] == pytest.approx(1.0) == fixed["coverage"]
+
+
+@pytest.mark.parametrize("flags,lock_free", [((), True), (("--fewest-facts",), False)])
+def test_fewest_facts_reaches_the_engine_options(flags, lock_free):
+    """``--fewest-facts`` turns the lock-free choice of learned facts off (the choice
+    itself: tests/refine/test_learning_choice.py)."""
+    import argparse
+
+    from stampc.commands import refine as refine_command
+
+    parser = argparse.ArgumentParser()
+    refine_command.add_arguments(parser)
+    args = parser.parse_args([DOMAIN, PROBLEM2D, *flags])
+    assert refine_command.refine_options(args).learn_lock_free is lock_free
