@@ -59,12 +59,10 @@ class Concretizer:
         self.bindings = bindings
         self.world = world
         self.seed = seed
-        domain = model.lifted.domain
-        self._generators = {g.name: g for g in domain.generators}
+        self._generators = {g.name: g for g in model.lifted.domain.generators}
         self._checks: dict[int, tuple[tuple[int, bool], ...]] = {}
-        self._unknowable = {p.name for p in domain.predicates if p.unknowable}
-        continuous = {t.name for t in domain.types if t.continuous}
-        self._symbols = frozenset(n for n, t in model.objects if t in continuous)
+        self._unknowable = unknowable_predicates(model)
+        self._symbols = continuous_objects(model)
         self.samples_drawn = 0
         self.evaluations = 0
         #: the run's absolute deadline: no new sample is drawn past it, and bound
@@ -284,6 +282,17 @@ class Concretizer:
             return next((a.executes.span if a.executes else a.span
                          for a in domain.actions if a.name == action_name), None)
         return None
+
+
+def unknowable_predicates(model: GroundModel) -> frozenset[str]:
+    """Names of the ``?`` predicates: their facts are decided by refinement."""
+    return frozenset(p.name for p in model.lifted.domain.predicates if p.unknowable)
+
+
+def continuous_objects(model: GroundModel) -> frozenset[str]:
+    """The model's objects of continuous types: the symbols generators bind."""
+    continuous = {t.name for t in model.lifted.domain.types if t.continuous}
+    return frozenset(n for n, t in model.objects if t in continuous)
 
 
 def outcome_of(action: ConcreteAction, probability: float) -> Outcome:

@@ -30,6 +30,7 @@ from collections import defaultdict
 from typing import Callable, Iterable
 
 from stampc.ir.grounded import GroundModel
+from stampc.refine.concretize import continuous_objects, unknowable_predicates
 
 Facts = tuple[tuple[int, bool], ...]
 
@@ -40,10 +41,8 @@ class LearningChoice:
     def __init__(self, model: GroundModel, cost: Callable[[int], float]):
         self.model = model
         self.cost = cost
-        domain = model.lifted.domain
-        continuous = {t.name for t in domain.types if t.continuous}
-        self._symbols = frozenset(n for n, t in model.objects if t in continuous)
-        unknowable = {p.name for p in domain.predicates if p.unknowable}
+        self._symbols = continuous_objects(model)
+        unknowable = unknowable_predicates(model)
         #: symbol -> the objects (not symbols) of the actions that generate it
         self._owners: dict[str, set[str]] = defaultdict(set)
         #: object -> the symbols generated for actions on it

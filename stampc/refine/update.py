@@ -85,7 +85,7 @@ class Updating:
     def _to_learn(self, node: Node, failure: Failure) -> tuple[tuple[int, bool], ...]:
         """Which sample's violated facts to write back at ``node`` (``learn_lock_free``;
         learning.py): one that locks no action, else the fewest facts."""
-        options, choice = failure.alternatives, self._choice(node)
+        options, choice = failure.alternatives, self._choice()
         if len(options) < 2 or choice is None or node.action is None:
             return failure.violated
         return choice.best(node.state, node.action, options, self._with_facts)
@@ -93,7 +93,7 @@ class Updating:
     def _locks_on_one_sample(self, node: Node, failure: Failure) -> bool:
         """Whether a quick failure's facts (one sample's) would lock an action: then
         the node searches every sample before anything is learned (``learn_lock_free``)."""
-        choice = self._choice(node)
+        choice = self._choice()
         if not failure.quick or node.uid in self._full_search or choice is None \
                 or node.action is None or (node.state, node.action) in self._lock_searched:
             return False
@@ -105,8 +105,8 @@ class Updating:
         self._lock_searched.add((node.state, node.action))
         return True
 
-    def _choice(self, node: Node) -> LearningChoice | None:
-        if not self.options.learn_lock_free or node.action is None:
+    def _choice(self) -> LearningChoice | None:
+        if not self.options.learn_lock_free:
             return None
         if self._learning is None:
             cost = make_heuristic("hadd", self.planner.solve_model,
@@ -138,8 +138,7 @@ class Updating:
             return
 
     def _with_facts(self, state: int, written) -> int:
-        """``state`` with the facts ``written`` ((fact, value) pairs), derived facts closed."""
-        return self.model.axioms.close(_written(state, written))
+        return with_facts(self.model, state, written)
 
     def _recall(self, node: Node, learned, values) -> tuple[tuple[int, bool], ...]:
         """Facts learned elsewhere that hold at ``node`` too (recall.py)."""
@@ -215,6 +214,11 @@ def _nominal_step(graph: PolicyGraph, parent: int, child: int) -> bool:
     edges = graph[parent].edges
     top = max((e.probability for e in edges), default=0.0)
     return any(e.child == child and e.probability >= top for e in edges)
+
+
+def with_facts(model: "GroundModel", state: int, written) -> int:
+    """``state`` with the facts ``written`` ((fact, value) pairs), derived facts closed."""
+    return model.axioms.close(_written(state, written))
 
 
 def _written(state: int, written) -> int:

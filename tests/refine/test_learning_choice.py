@@ -7,6 +7,7 @@ which the Panda's four top grasps meet differently)."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from pathlib import Path
 
@@ -17,6 +18,7 @@ from stampc.refine import Engine, RefineOptions
 from stampc.refine.concretize import Failure
 from stampc.refine.graph import path_values
 from stampc.refine.learning import LearningChoice
+from stampc.refine.update import with_facts
 from stampc.solvers.heuristics import make_heuristic
 from stampc.worlds.bindings import resolve_model
 from stampc.worlds.loading import load_scene, open_world
@@ -40,7 +42,7 @@ def engine_at_root():
 
 
 def _fact(engine: Engine, name: str) -> int:
-    return next(i for i, f in enumerate(engine.model.facts) if str(f) == name)
+    return _index(engine.model, name)
 
 
 def _pick_target(engine: Engine):
@@ -80,11 +82,7 @@ def _mobile():
 
 
 def _written(model):
-    def written(state, facts):
-        for f, value in facts:
-            state = state | (1 << f) if value else state & ~(1 << f)
-        return model.axioms.close(state)
-    return written
+    return functools.partial(with_facts, model)
 
 
 def _index(model, name: str) -> int:
