@@ -161,3 +161,36 @@ def test_horizon_shorter_than_any_plan_costs_dead_end_without_search():
         # Seven steps are needed, six are left: the goal is out of reach.
         assert sol.expected_cost == 40 and sol.goal_probability == 0
         assert sol.states_expanded == 0
+
+
+def _locked_model(switches: int = 10):
+    """``unlock`` is the only way to the goal; ``switches`` independent toggles make
+    2**switches states from which no other action leads there."""
+    names = [f"s{i}" for i in range(switches)]
+    b = ModelBuilder(names + ["open", "g"])
+    for name in names:
+        b.action(f"on_{name}", neg=[name], outcomes=[(1, [name], [])])
+        b.action(f"off_{name}", pre=[name], outcomes=[(1, [], [name])])
+    unlock = b.action("unlock", outcomes=[(1, ["open"], [])])
+    b.action("finish", pre=["open"], outcomes=[(1, ["g"], [])])
+    return b.build(init=[], goal=["g"]), unlock
+
+
+@pytest.mark.parametrize("heuristic", ("hmax", "hadd", "hff"))
+def test_a_state_needing_an_action_banned_everywhere_is_a_recognised_dead_end(heuristic):
+    from stampc.solvers.space import ANY_STATE
+    model, unlock = _locked_model()
+    free = solve(model, SolverOptions(heuristic=heuristic))
+    assert free.goal_probability == 1
+    everywhere = solve(model, SolverOptions(heuristic=heuristic,
+                                            forbidden=frozenset({(ANY_STATE, unlock)})))
+    assert everywhere.goal_probability == 0 and everywhere.converged
+    assert len(everywhere.search.V) == 1  # the relaxation, not the 1,024 states, says so
+    # the same from a warm start whose tables knew no ban
+    warm = solve(model, SolverOptions(heuristic=heuristic,
+                                      forbidden=frozenset({(ANY_STATE, unlock)})), warm=free)
+    assert warm.goal_probability == 0 and len(warm.search.V) == 1
+    # a ban in one state is no ban in the relaxation: the search has to look around
+    here = solve(model, SolverOptions(heuristic=heuristic,
+                                      forbidden=frozenset({(model.init, unlock)})))
+    assert here.goal_probability == 1 and len(here.search.V) > 1
