@@ -7,6 +7,7 @@ import pytest
 from ssp_builders import ModelBuilder
 from stampc.diagnostics import StampcError
 from stampc.solvers import SolverOptions, solve
+from stampc.solvers.space import ANY_STATE
 
 ALGOS = ("lao", "lrtdp", "vi")
 
@@ -178,7 +179,6 @@ def _locked_model(switches: int = 10):
 
 @pytest.mark.parametrize("heuristic", ("hmax", "hadd", "hff"))
 def test_a_state_needing_an_action_banned_everywhere_is_a_recognised_dead_end(heuristic):
-    from stampc.solvers.space import ANY_STATE
     model, unlock = _locked_model()
     free = solve(model, SolverOptions(heuristic=heuristic))
     assert free.goal_probability == 1
