@@ -16,7 +16,7 @@ from stampc.solvers.heuristics import HEURISTICS
 from stampc.solvers.lao import lao
 from stampc.solvers.lrtdp import lrtdp
 from stampc.solvers.solution import ALGORITHMS, Solution, SolverOptions
-from stampc.solvers.space import ANY_STATE, Space
+from stampc.solvers.space import Space, banned_everywhere
 from stampc.solvers.successors import SuccessorCache
 from stampc.solvers.vi import value_iteration
 
@@ -111,10 +111,6 @@ def _relevance(model: GroundModel, options: SolverOptions):
     return find_relevance(model)
 
 
-def _banned_anywhere(forbidden: frozenset[tuple[int, int]]) -> frozenset[int]:
-    return frozenset(a for s, a in forbidden if s == ANY_STATE)
-
-
 def _make_h(model: GroundModel, options: SolverOptions):
     """The search heuristic, relaxing the model *without* the actions banned in every
     state: a state whose every relaxed way to the goal needs one of them is then a
@@ -123,7 +119,7 @@ def _make_h(model: GroundModel, options: SolverOptions):
     banned everywhere left two obstruction locks as the only ways on; its re-solves ran
     to their caps, 180-440 s each, over 500,000+ states). Bans in one state only cannot
     enter a relaxation, which forgets states."""
-    banned = _banned_anywhere(options.forbidden)
+    banned = banned_everywhere(options.forbidden)
     if banned:
         model = replace(model, actions=tuple(a for a in model.actions if a.index not in banned))
     return make_heuristic(options.heuristic, model, options.unit_cost, options.weight)
@@ -146,7 +142,7 @@ def _make_search(model: GroundModel, options: SolverOptions, horizon: int | None
             search.guide = old.guide
             return search
         cache, h = old.space.cache, old.space.h
-        if _banned_anywhere(warm.options.forbidden) != _banned_anywhere(options.forbidden):
+        if banned_everywhere(warm.options.forbidden) != banned_everywhere(options.forbidden):
             h = _make_h(model, options)
         warm_values = dict(old.V)
     else:

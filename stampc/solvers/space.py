@@ -28,6 +28,11 @@ def is_forbidden(forbidden: AbstractSet[tuple[int, int]], state: int, action: in
     return (state, action) in forbidden or (ANY_STATE, action) in forbidden
 
 
+def banned_everywhere(forbidden: AbstractSet[tuple[int, int]]) -> frozenset[int]:
+    """The actions of ``forbidden`` banned in every state."""
+    return frozenset(a for s, a in forbidden if s == ANY_STATE)
+
+
 class Space:
     def __init__(self, cache: SuccessorCache, heuristic: Heuristic, dead_end_cost: float,
                  horizon: int | None = None,
@@ -43,7 +48,7 @@ class Space:
         self.state_mask = (1 << self.shift) - 1
         self.forbidden = forbidden
         self._forbidden_states = frozenset(s for s, _ in forbidden)
-        self._forbidden_anywhere = frozenset(a for s, a in forbidden if s == ANY_STATE)
+        self._forbidden_anywhere = banned_everywhere(forbidden)
         self.warm = warm or {}
         #: Finite horizon only: state -> lower bound on the *stationary* optimal value.
         #: V_H(s, t) >= V*(s): a finite-horizon policy is a history-dependent policy of
