@@ -14,6 +14,7 @@ from typing import Sequence
 
 from stampc.ir.ground_context import iter_effect_atoms
 from stampc.ir.grounded import GroundModel
+from stampc.refine.concretize import unknowable_predicates
 
 
 def fixed_facts(model: GroundModel) -> frozenset[int]:
@@ -23,7 +24,7 @@ def fixed_facts(model: GroundModel) -> frozenset[int]:
         return frozenset()
     written = {atom.predicate for action in lifted.domain.actions
                for atom, _ in iter_effect_atoms(action.effect)}
-    fixed = {p.name for p in lifted.domain.predicates if p.unknowable} - written
+    fixed = unknowable_predicates(model) - written
     return frozenset(i for i, f in enumerate(model.facts) if f.predicate in fixed)
 
 
