@@ -218,11 +218,13 @@ def _copy_node(node: Node) -> Node:
 
 # ------------------------------------------------------------------ coverage
 def _masses(graph: PolicyGraph, leaf_value: Callable[[Node], tuple[float, ...]],
-            refined_only: bool = True) -> tuple[float, ...]:
-    """Probabilities, from the root, of reaching a leaf scored by each component of
-    ``leaf_value`` (while staying on refined nodes, with ``refined_only``). Iterated to a
-    fixed point so cycles (retry loops) count with their true, geometric probability."""
-    order, acyclic = graph.postorder()
+            refined_only: bool = True, start: int | None = None) -> tuple[float, ...]:
+    """Probabilities, from ``start`` (default: the root), of reaching a leaf scored by
+    each component of ``leaf_value`` (while staying on refined nodes, with
+    ``refined_only``). Iterated to a fixed point so cycles (retry loops) count with their
+    true, geometric probability."""
+    start = graph.root if start is None else start
+    order, acyclic = graph.postorder(start)
     width = len(leaf_value(graph.nodes[order[0]]))
     zero = (0.0,) * width
     value = {u: zero for u in order}
@@ -241,7 +243,7 @@ def _masses(graph: PolicyGraph, leaf_value: Callable[[Node], tuple[float, ...]],
             value[uid] = new
         if acyclic or delta < 1e-12:
             break
-    return tuple(min(1.0, v) for v in value[graph.root])
+    return tuple(min(1.0, v) for v in value[start])
 
 
 def _mass(graph: PolicyGraph, leaf_value: Callable[[Node], float],
@@ -272,6 +274,17 @@ def tracked_coverage_and_goal(graph: PolicyGraph) -> tuple[float, float]:
         return coverage_and_goal(graph)
     cov, goal = tracker[1].values[graph.root]
     return min(1.0, cov), min(1.0, goal)
+
+
+def covered_below(graph: PolicyGraph, uid: int) -> float:
+    """The coverage of the policy below ``uid``, as if it were the root: the share of
+    the executions reaching ``uid`` that stay on refined nodes to a terminal leaf. Read
+    from the tracked masses when the graph is acyclic (no sweep)."""
+    tracked_coverage_and_goal(graph)
+    values = graph.caches["masses"][1].values
+    if uid in values:
+        return min(1.0, values[uid][0])
+    return _masses(graph, lambda n: (1.0 if n.terminal else 0.0,), start=uid)[0]
 
 
 def _coverage_and_goal_local(node: Node, value: Mapping[int, tuple]) -> tuple[float, float]:

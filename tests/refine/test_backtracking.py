@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
 import stampc
 from stampc.refine import Engine, RefineOptions
+from stampc.refine.graph import coverage
+from stampc.refine.options import check_refine_options
 from stampc.refine.replay import replay
 from stampc.worlds.bindings import resolve_model
 from stampc.worlds.loading import load_scene, open_world
@@ -295,7 +298,7 @@ def test_the_achievers_of_a_failing_action_are_the_nearest_steps_that_made_its_p
     The place stands on pick(can1) (`holding(can1)`). With ``achievers_first``, a
     re-sample for a failing pick(can0) is taken among its achievers before any other
     ancestor."""
-    engine, _ = shelf_run(achievers_first=True)
+    engine, _ = shelf_run(achievers_first=True, max_resample_loss=None)
     graph, model = engine.best_graph, engine.model
     path = _refined_path_through(graph, model, "place(can1")
     label = {u: model.actions[graph[u].action].label for u in path if graph[u].action is not None}
@@ -309,3 +312,51 @@ def test_the_achievers_of_a_failing_action_are_the_nearest_steps_that_made_its_p
     target = engine._resample_target(graph, upto_pick0)
     assert target in (graph[place], graph[discard])
     assert min(graph[place].resamples, graph[discard].resamples) == target.resamples
+
+
+
+def _reach(graph, path, uid) -> float:
+    """The probability of ``path``'s prefix up to ``uid``."""
+    prob = 1.0
+    for parent, child in zip(path, path[1:]):
+        if parent == uid:
+            break
+        prob *= next(e.probability for e in graph[parent].edges if e.child == child)
+    return prob
+
+
+def _coverage_from(graph, uid) -> float:
+    """The coverage of ``graph`` re-rooted at ``uid`` (a from-scratch sweep on a copy,
+    not the engine's tracked masses)."""
+    rooted = graph.copy(keep_values=False)
+    rooted.root = uid
+    return coverage(rooted)
+
+
+def test_an_ancestor_is_re_sampled_only_while_its_covered_mass_is_worth_the_failing_path():
+    """On the fully refined shelf policy, a failing pick(can0) below place(can1) and
+    discard(can2): re-drawing the discard would throw away more covered mass than the
+    pick's path could ever add, so the (nearer, cheaper) place is taken, although the
+    discard was re-drawn less often; without the limit the discard is taken."""
+    engine, _ = shelf_run(achievers_first=True)
+    graph, model = engine.best_graph, engine.model
+    path = _refined_path_through(graph, model, "place(can1")
+    label = {u: model.actions[graph[u].action].label for u in path if graph[u].action is not None}
+    place = next(u for u in path if label.get(u, "").startswith("place(can1"))
+    discard = next(u for u in path if label.get(u, "").startswith("discard(can2"))
+    upto_pick0 = path[:path.index(place) + 2]
+    gain = _reach(graph, upto_pick0, upto_pick0[-1])
+    lost_place = _reach(graph, upto_pick0, place) * _coverage_from(graph, place)
+    lost_discard = _reach(graph, upto_pick0, discard) * _coverage_from(graph, discard)
+    assert lost_place <= gain < lost_discard
+    assert graph[discard].resamples < graph[place].resamples
+    assert engine._resample_target(graph, upto_pick0) is graph[place]
+    engine.options = replace(engine.options, max_resample_loss=None)
+    assert engine._resample_target(graph, upto_pick0) is graph[discard]
+
+
+@pytest.mark.parametrize("loss", [-0.5, float("nan")])
+def test_a_negative_or_nan_resample_loss_limit_is_refused(loss):
+    with pytest.raises(stampc.StampcError) as info:
+        check_refine_options(RefineOptions(max_resample_loss=loss))
+    assert [d.code for d in info.value.diagnostics] == ["R003"]
