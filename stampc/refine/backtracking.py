@@ -114,9 +114,14 @@ class Backtracking:
             if k + 1 < len(path):
                 prob *= next((e.probability for e in graph[uid].edges
                               if e.child == path[k + 1]), 0.0)
-        gain = prob
-        return [n for n in nodes
-                if reach[n.uid] * covered_below(graph, n.uid) <= limit * gain + 1e-12]
+        lost = {n.uid: reach[n.uid] * covered_below(graph, n.uid) for n in nodes}
+        kept = [n for n in nodes if lost[n.uid] <= limit * prob + 1e-12]
+        if not kept:
+            nearest = max(nodes, key=lambda n: path.index(n.uid))
+            self._notes.append(f"{self.model.actions[nearest.action].label}: not re-sampled "
+                               f"({lost[nearest.uid]:.4g} covered below it, the failing "
+                               f"path {prob:.4g})")
+        return kept
 
     def _achievers(self, graph: PolicyGraph, path: tuple[int, ...]) -> list[Node]:
         """For each precondition fact of the path's failing action that some step of the

@@ -351,6 +351,10 @@ def test_an_ancestor_is_re_sampled_only_while_its_covered_mass_is_worth_the_fail
     assert lost_place <= gain < lost_discard
     assert graph[discard].resamples < graph[place].resamples
     assert engine._resample_target(graph, upto_pick0) is graph[place]
+    engine._notes.clear()
+    assert engine._affordable(graph, upto_pick0, [graph[discard]]) == []
+    assert len(engine._notes) == 1 and engine._notes[0].startswith(label[discard])
+    assert "not re-sampled" in engine._notes[0]
     engine.options = replace(engine.options, max_resample_loss=None)
     assert engine._resample_target(graph, upto_pick0) is graph[discard]
 
