@@ -73,6 +73,16 @@ def positive_float(text: str) -> float:
     return value
 
 
+def ratio_or_none(text: str) -> float | None:
+    """A limit given as a multiple: finite and >= 0, or "none" for no limit."""
+    if text.strip().lower() == "none":
+        return None
+    value = _number(text, float)
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0 or 'none', got {text!r}")
+    return value
+
+
 def positive_int(text: str) -> int:
     """Counts and horizons: an integer >= 1."""
     value = _number(text, int)

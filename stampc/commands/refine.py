@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING
 from stampc.commands.common import (EXIT_DONE, EXIT_INPUT, EXIT_STOPPED_SHORT, EXIT_USAGE,
                                     add_input_arguments, count, heuristic_weight,
                                     parse_scene_args, positive_float, positive_int, probability,
-                                    prune_probability, reports_errors, sigterm_as_interrupt,
-                                    target_coverage)
+                                    prune_probability, ratio_or_none, reports_errors,
+                                    sigterm_as_interrupt, target_coverage)
 
 if TYPE_CHECKING:
     from stampc.refine import RefineOptions
@@ -55,6 +55,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write an obstruction by an object the previous action just "
                              "placed into the abstract state, instead of re-sampling that "
                              "placement first (docs/refine.md)")
+    parser.add_argument("--max-resample-loss", type=ratio_or_none, default=1.0, metavar="X",
+                        help="re-sample a refined ancestor only while the covered mass below "
+                             "it is at most X times the failing path's probability "
+                             "(default 1; 'none': no limit; docs/refine.md)")
     parser.add_argument("--fewest-facts", action="store_true",
                         help="when every sample of a full search fails, write back the "
                              "sample with the fewest violated facts, even one that locks "
@@ -108,6 +112,7 @@ def refine_options(args: argparse.Namespace) -> RefineOptions:
         solve_work_limit=args.solve_work_limit or SOLVE_WORK_LIMIT,
         resample_placers=not args.no_resample_placers,
         learn_lock_free=not args.fewest_facts,
+        max_resample_loss=args.max_resample_loss,
         achievers_first=args.achievers_first,
         selection=args.selection,
         adaptive_solve_cap=not args.fixed_solve_cap,

@@ -170,3 +170,25 @@ def test_fewest_facts_reaches_the_engine_options(flags, lock_free):
     refine_command.add_arguments(parser)
     args = parser.parse_args([DOMAIN, PROBLEM2D, *flags])
     assert refine_command.refine_options(args).learn_lock_free is lock_free
+
+
+@pytest.mark.parametrize("flags,loss", [((), 1.0), (("--max-resample-loss", "0.25"), 0.25),
+                                        (("--max-resample-loss", "none"), None)])
+def test_max_resample_loss_reaches_the_engine_options(flags, loss):
+    """``--max-resample-loss`` sets the limit on the covered mass a re-sample may discard
+    (the rule itself: tests/refine/test_backtracking.py)."""
+    import argparse
+
+    from stampc.commands import refine as refine_command
+
+    parser = argparse.ArgumentParser()
+    refine_command.add_arguments(parser)
+    args = parser.parse_args([DOMAIN, PROBLEM2D, *flags])
+    assert refine_command.refine_options(args).max_resample_loss == loss
+
+
+@pytest.mark.parametrize("value", ["-1", "nan", "inf", "lots"])
+def test_a_bad_max_resample_loss_is_a_usage_error(value, capsys):
+    assert main(["refine", DOMAIN, PROBLEM2D, "--max-resample-loss", value]) == 2
+    err = capsys.readouterr().err
+    assert "argument --max-resample-loss:" in err and "Traceback" not in err
