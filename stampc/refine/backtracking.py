@@ -59,6 +59,9 @@ class Backtracking:
     #: per abstract state (learned facts written): replans that found only proven dead
     #: ends below it (``_dead_end_for_sure``)
     _dead_ends_met: dict[int, int]
+    #: per refined ancestor: re-samples refused for their covered mass where the failure
+    #: left no way to the goal (``_affordable``)
+    _refused: dict[int, int]
     #: the engine's best-policy bookkeeping (``Engine._track``)
     _track: "Callable[[int, PolicyGraph], None]"
 
@@ -75,7 +78,8 @@ class Backtracking:
         met = self._dead_ends_met[state] = self._dead_ends_met.get(state, 0) + 1
         return met >= after
 
-    def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...]) -> Node | None:
+    def _resample_target(self, graph: PolicyGraph, path: tuple[int, ...],
+                         insist: bool = False) -> Node | None:
         """The refined ancestor (with generated values) to re-sample: among those that
         generated a value the failing action takes as an argument (the placement of the
         can it must pick: cluttered-40 seed 3 re-drew unrelated ancestors 460 times while
@@ -84,7 +88,8 @@ class Backtracking:
         re-sampled least often so far, the nearest among equals: which of them blocks
         the failing action is not known, so the re-draws are spread over them instead
         of exhausting the nearest one first (tried: nearest-first did worse on Keva
-        tower-12 seed 2, coverage 0.24 vs 0.99 in 240-300 s)."""
+        tower-12 seed 2, coverage 0.24 vs 0.99 in 240-300 s). ``insist``: see
+        ``_affordable``."""
         candidates = [graph[u] for u in reversed(path[:-1])
                       if graph[u].refined and graph[u].sigma
                       and graph[u].resamples < self.options.max_resamples]
@@ -94,17 +99,23 @@ class Backtracking:
         if not relevant and self.options.achievers_first:
             achievers = {n.uid for n in self._achievers(graph, path)}
             relevant = [n for n in candidates if n.uid in achievers]
-        pool = self._affordable(graph, path, relevant or candidates)
+        pool = self._affordable(graph, path, relevant or candidates, insist)
         return min(pool, key=lambda n: n.resamples) if pool else None
 
     def _affordable(self, graph: PolicyGraph, path: tuple[int, ...],
-                    nodes: list[Node]) -> list[Node]:
+                    nodes: list[Node], insist: bool = False) -> list[Node]:
         """Those of ``nodes`` (ancestors on ``path``) whose re-sample throws away no more
         covered mass than ``max_resample_loss`` times the failing path's probability
         (what its refinement could add at most). A re-sample discards every refinement
         below the node: cluttered-25 seed 5 re-drew a can's placement for a re-pick of
         it below, and its working graph fell from 0.9087 to 0.5337 covered and had
-        regained only 0.668 400 s later."""
+        regained only 0.668 400 s later.
+
+        ``insist``: the failure left no way to the goal below its node, so a refusal
+        sends the PRG back a step, where the same path is selected again. An ancestor
+        refused ``max_attempts`` times so is granted: aircraft seed 4 (solved in 8 s with
+        5 re-samples) otherwise went back to the same PRG node 139 times in 60 s for a
+        0.00017 path below a flight with 0.018 covered under it."""
         limit = self.options.max_resample_loss
         if limit is None or not nodes:
             return nodes
@@ -115,7 +126,12 @@ class Backtracking:
                 prob *= next((e.probability for e in graph[uid].edges
                               if e.child == path[k + 1]), 0.0)
         lost = {n.uid: reach[n.uid] * covered_below(graph, n.uid) for n in nodes}
-        kept = [n for n in nodes if lost[n.uid] <= limit * prob + 1e-12]
+        kept = [n for n in nodes if lost[n.uid] <= limit * prob + 1e-12
+                or (insist and self._refused.get(n.uid, 0) >= self.options.max_attempts)]
+        if insist:
+            for n in nodes:
+                if n not in kept:
+                    self._refused[n.uid] = self._refused.get(n.uid, 0) + 1
         if not kept:
             nearest = max(nodes, key=lambda n: path.index(n.uid))
             self._notes.append(f"{self.model.actions[nearest.action].label}: not re-sampled "
@@ -183,6 +199,7 @@ class Backtracking:
         it is invalidated (its subtree becomes an unrefined copy); a new PRG node records
         the step."""
         self._lift_bans(graph.reachable(ancestor.uid))
+        self._refused.pop(ancestor.uid, None)
         new_graph = graph.copy()
         target = new_graph.own(ancestor.uid)
         new_graph.touch(target.uid)

@@ -72,6 +72,7 @@ class Engine(Updating, Backtracking, Reporting):
         self._working: PolicyGraph | None = None
         self._holding: set[int] = {0}
         self._dead_ends_met: dict[int, int] = {}
+        self._refused: dict[int, int] = {}
         #: nodes that must search every sample next (``_concretize_quickly``)
         self._full_search: set[int] = set()
         self._learning = None

@@ -198,7 +198,8 @@ class Updating:
         if failed:
             # UpdateAbstraction cannot help: revise an earlier choice on the path first
             # (Alg. 1), then fall back to the PRG's iterative broadening
-            ancestor = self._resample_target(graph, path) if path and not recheck else None
+            ancestor = (self._resample_target(graph, path, insist=True)
+                        if path and not recheck else None)
             if ancestor is not None:
                 graph.own(node.uid).attempts += 1  # the failed node draws fresh samples too
                 return self._resample(graph, ancestor, node)

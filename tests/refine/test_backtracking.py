@@ -355,6 +355,11 @@ def test_an_ancestor_is_re_sampled_only_while_its_covered_mass_is_worth_the_fail
     assert engine._affordable(graph, upto_pick0, [graph[discard]]) == []
     assert len(engine._notes) == 1 and engine._notes[0].startswith(label[discard])
     assert "not re-sampled" in engine._notes[0]
+    # where the failure left no way below it, a refusal repeats on the same path: after
+    # max_attempts refusals of one ancestor, its re-sample is granted
+    refusals = [engine._affordable(graph, upto_pick0, [graph[discard]], insist=True)
+                for _ in range(engine.options.max_attempts + 1)]
+    assert refusals == [[]] * engine.options.max_attempts + [[graph[discard]]]
     engine.options = replace(engine.options, max_resample_loss=None)
     assert engine._resample_target(graph, upto_pick0) is graph[discard]
 
