@@ -338,7 +338,7 @@ def test_an_ancestor_is_re_sampled_only_while_its_covered_mass_is_worth_the_fail
     discard(can2): re-drawing the discard would throw away more covered mass than the
     pick's path could ever add, so the (nearer, cheaper) place is taken, although the
     discard was re-drawn less often; without the limit the discard is taken."""
-    engine, _ = shelf_run(achievers_first=True)
+    engine, _ = shelf_run(achievers_first=True, max_resample_loss=1.0)
     graph, model = engine.best_graph, engine.model
     path = _refined_path_through(graph, model, "place(can1")
     label = {u: model.actions[graph[u].action].label for u in path if graph[u].action is not None}
