@@ -183,15 +183,15 @@ class Backtracking:
         named = {a for f, value in learned if value for a in self.model.facts[f].args}
         node = next((graph[u] for u in reversed(path[:-1])
                      if graph[u].refined and graph[u].sigma), None)
-        if node is None or node.action is None or node.resamples >= self.options.max_resamples \
-                or not self._affordable(graph, path, [node]):
+        if node is None or node.action is None or node.resamples >= self.options.max_resamples:
             return None
         sampled = set(map(str, node.sigma))
         for outcome in self.model.actions[node.action].outcomes(node.state):
             for fact in bits(outcome.add):
                 args = set(self.model.facts[fact].args)
                 if args & named and args & sampled:
-                    return node
+                    # ... and only if re-drawing it is worth what it throws away
+                    return node if self._affordable(graph, path, [node]) else None
         return None
 
     def _resample(self, graph: PolicyGraph, ancestor: Node, failed: Node) -> tuple[str, str]:

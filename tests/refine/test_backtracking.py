@@ -288,6 +288,11 @@ def test_only_the_nearest_refined_ancestor_is_taken_for_the_placer():
     assert engine._placer_of_blocker(graph, upto, [(by_can2, True)]) is None
     assert engine._placer_of_blocker(graph, upto, [(by_can1, False)]) is None
     assert engine._placer_of_blocker(graph, upto[:-1] + (pick, pick), [(by_can1, True)]) is None
+    # with a limit on what a re-sample may discard: the place has covered mass below it
+    # (the policy is fully refined), so a limit of 0 refuses it
+    assert _coverage_from(graph, place) > 0
+    engine.options = replace(engine.options, max_resample_loss=0.0)
+    assert engine._placer_of_blocker(graph, upto, [(by_can1, True)]) is None
 
 
 def test_the_achievers_of_a_failing_action_are_the_nearest_steps_that_made_its_preconditions_true():
