@@ -344,7 +344,8 @@ def main(argv: list[str] | None = None) -> int:
                     help=f"CI: 1 seed per paper class, {QUICK_TIMEOUT:.0f} s limits")
     ap.add_argument("--beyond", action="store_true", help="also the beyond-paper classes")
     ap.add_argument("--timeout", type=float, help="override every class's timeout (s)")
-    ap.add_argument("--classes", default="", help="regex selecting class names")
+    ap.add_argument("--classes", default="", help="regex selecting class names, among every "
+                    "class (the beyond-paper ones too, without --beyond)")
     ap.add_argument("--jobs", type=int, default=2, help="parallel runs (default 2)")
     ap.add_argument("--ray", nargs="?", const="", default=None, metavar="ADDRESS",
                     help="run on the Ray cluster at ADDRESS (Ray's default without one) "
