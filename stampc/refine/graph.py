@@ -267,12 +267,10 @@ def coverage_and_goal(graph: PolicyGraph) -> tuple[float, float]:
 def tracked_coverage_and_goal(graph: PolicyGraph) -> tuple[float, float]:
     """:func:`coverage_and_goal`, kept on ``graph`` between calls (incremental.py): after
     a step only the touched and new nodes and their ancestors are recomputed."""
-    tracker = graph.caches.get("masses")
-    if tracker is None:
-        tracker = graph.caches["masses"] = (None, IncrementalValues(_coverage_and_goal_local))
-    if not tracker[1].refresh(graph):
+    tracked = _tracked_masses(graph)
+    if tracked is None:
         return coverage_and_goal(graph)
-    cov, goal = tracker[1].values[graph.root]
+    cov, goal = tracked[graph.root]
     return min(1.0, cov), min(1.0, goal)
 
 
@@ -280,11 +278,19 @@ def covered_below(graph: PolicyGraph, uid: int) -> float:
     """The coverage of the policy below ``uid``, as if it were the root: the share of
     the executions reaching ``uid`` that stay on refined nodes to a terminal leaf. Read
     from the tracked masses when the graph is acyclic (no sweep)."""
-    tracked_coverage_and_goal(graph)
-    values = graph.caches["masses"][1].values
-    if uid in values:
-        return min(1.0, values[uid][0])
+    tracked = _tracked_masses(graph)
+    if tracked is not None and uid in tracked:
+        return min(1.0, tracked[uid][0])
     return _masses(graph, lambda n: (1.0 if n.terminal else 0.0,), start=uid)[0]
+
+
+def _tracked_masses(graph: PolicyGraph) -> Mapping[int, tuple[float, float]] | None:
+    """Every node's (coverage, goal) masses, kept on ``graph`` and brought up to date;
+    None on a cyclic graph (not kept: incremental.py)."""
+    tracker = graph.caches.get("masses")
+    if tracker is None:
+        tracker = graph.caches["masses"] = (None, IncrementalValues(_coverage_and_goal_local))
+    return tracker[1].values if tracker[1].refresh(graph) else None
 
 
 def _coverage_and_goal_local(node: Node, value: Mapping[int, tuple]) -> tuple[float, float]:
