@@ -11,7 +11,7 @@ from stampc.ir.grounded import bits
 from stampc.refine.fixed import needing_otherwise
 from stampc.refine.graph import (GOAL, HORIZON, Node, PolicyGraph, adopt, covered_below,
                                  detach_subtree)
-from stampc.solvers.space import ANY_STATE
+from stampc.solvers.space import ANY_STATE, banned_everywhere
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -298,8 +298,7 @@ class Backtracking:
     def _bans_everywhere(self) -> list[int]:
         """The actions banned in every state (the planner's ``(ANY_STATE, a)`` pairs),
         except those a learned fixed fact rules out (never lifted)."""
-        return [a for s, a in self.planner.forbidden
-                if s == ANY_STATE and a not in self._fact_bans]
+        return [a for a in banned_everywhere(self.planner.forbidden) if a not in self._fact_bans]
 
     def _replan_above(self, graph: PolicyGraph, path: tuple[int, ...]) -> tuple[str, str] | None:
         """With actions banned in every state, replan at the nearest of the last
