@@ -59,9 +59,13 @@ class Backtracking:
     #: per abstract state (learned facts written): replans that found only proven dead
     #: ends below it (``_dead_end_for_sure``)
     _dead_ends_met: dict[int, int]
-    #: per refined ancestor: re-samples refused for their covered mass where the failure
-    #: left no way to the goal (``_affordable``)
+    #: per refined ancestor: the work spent (``_spent``) when a re-sample of it was first
+    #: refused for its covered mass where the failure left no way to the goal
+    #: (``_affordable``)
     _refused: dict[int, int]
+    #: concretization work per policy node, and in all (``Engine._account``)
+    _work: dict[int, int]
+    _spent: int
     #: the engine's best-policy bookkeeping (``Engine._track``)
     _track: "Callable[[int, PolicyGraph], None]"
 
@@ -112,10 +116,15 @@ class Backtracking:
         regained only 0.668 400 s later.
 
         ``insist``: the failure left no way to the goal below its node, so a refusal
-        sends the PRG back a step, where the same path is selected again. An ancestor
-        refused ``max_attempts`` times so is granted: aircraft seed 4 (solved in 8 s with
-        5 re-samples) otherwise went back to the same PRG node 139 times in 60 s for a
-        0.00017 path below a flight with 0.018 covered under it."""
+        sends the PRG back a step, where the same path is selected again. Refusing goes
+        on while the work spent since an ancestor's first such refusal is less than the
+        work its re-sample would throw away (the concretization work of the refined
+        nodes below it, itself included); then it is granted (ski rental: at most twice
+        the cheaper of the two). Aircraft seed 4 (solved in 8 s with 5 re-samples)
+        otherwise went back to the same PRG node 139 times in 60 s for a 0.00017 path
+        below a flight with 0.018 covered under it, cheap to refine again; a fixed
+        count of 3 refusals instead left cluttered-20 seed 3 and cluttered-25 seed 5,
+        whose placements carry costly subtrees, below the default's figures."""
         limit = self.options.max_resample_loss
         if limit is None or not nodes:
             return nodes
@@ -127,17 +136,26 @@ class Backtracking:
                               if e.child == path[k + 1]), 0.0)
         lost = {n.uid: reach[n.uid] * covered_below(graph, n.uid) for n in nodes}
         kept = [n for n in nodes if lost[n.uid] <= limit * prob + 1e-12
-                or (insist and self._refused.get(n.uid, 0) >= self.options.max_attempts)]
+                or (insist and self._rent_paid(graph, n.uid))]
         if insist:
             for n in nodes:
                 if n not in kept:
-                    self._refused[n.uid] = self._refused.get(n.uid, 0) + 1
+                    self._refused.setdefault(n.uid, self._spent)
         if not kept:
             nearest = max(nodes, key=lambda n: path.index(n.uid))
             self._notes.append(f"{self.model.actions[nearest.action].label}: not re-sampled "
                                f"({lost[nearest.uid]:.4g} covered below it, the failing "
                                f"path {prob:.4g})")
         return kept
+
+    def _rent_paid(self, graph: PolicyGraph, uid: int) -> bool:
+        """Whether the work spent since ``uid``'s first refusal (``_affordable``) is at
+        least the work its re-sample would throw away."""
+        since = self._refused.get(uid)
+        if since is None:
+            return False
+        below = sum(self._work.get(u, 0) for u in graph.reachable(uid) if graph[u].refined)
+        return self._spent - since >= below
 
     def _achievers(self, graph: PolicyGraph, path: tuple[int, ...]) -> list[Node]:
         """For each precondition fact of the path's failing action that some step of the

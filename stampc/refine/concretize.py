@@ -69,6 +69,12 @@ class Concretizer:
         #: functions see it as ``ctx.deadline``
         self.deadline: float | None = None
 
+    @property
+    def work(self) -> int:
+        """Samples drawn plus evaluations so far: the search's work, counted the same on
+        any machine (the engine weighs backtracking by it, ``Backtracking._affordable``)."""
+        return self.samples_drawn + self.evaluations
+
     def past_deadline(self) -> bool:
         return self.deadline is not None and time.perf_counter() >= self.deadline
 

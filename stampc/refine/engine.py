@@ -73,6 +73,10 @@ class Engine(Updating, Backtracking, Reporting):
         self._holding: set[int] = {0}
         self._dead_ends_met: dict[int, int] = {}
         self._refused: dict[int, int] = {}
+        #: concretization work (samples drawn + evaluations) per policy node, and in all
+        #: (``_account``): a deterministic measure, unlike seconds
+        self._work: dict[int, int] = {}
+        self._spent = 0
         #: nodes that must search every sample next (``_concretize_quickly``)
         self._full_search: set[int] = set()
         self._learning = None
@@ -280,10 +284,17 @@ class Engine(Updating, Backtracking, Reporting):
             return self._update(graph, node, (), "update", path)
         values = path_values(graph, path[:-1], self.initial_values)
         quick = self._concretize_quickly(node, self.rng.random())
+        before = self.concretizer.work
         result = self.concretizer.concretize(
             action, node.concrete.snapshot, node.concrete.cache, values,
             node_uid=node.uid, attempt=node.attempts, quick=quick)
+        self._account(node.uid, self.concretizer.work - before)
         return self._integrate(graph, path, result, values)
+
+    def _account(self, uid: int, work: int) -> None:
+        """Record ``work`` (samples drawn + evaluations) spent concretizing node ``uid``."""
+        self._work[uid] = self._work.get(uid, 0) + work
+        self._spent += work
 
     def _concretize_quickly(self, node: Node, draw: float) -> bool:
         """Whether ``node``'s concretization takes UpdateAbstraction's quick mode (the

@@ -62,6 +62,7 @@ class WorkReply:
     snapshots: list | None = None         # one per edge, on success
     cache: dict = field(default_factory=dict)
     busy_s: float = 0.0                   # time in generators, evaluators, executors
+    work: int = 0                         # samples drawn + evaluations (Concretizer.work)
     diagnostics: tuple[Diagnostic, ...] = ()  # a located error instead of a result
 
 
@@ -101,7 +102,7 @@ def handle_task(model, concretizer, task: WorkTask) -> WorkReply:
     of each batch itself with this, the workers the others)."""
     from stampc.refine.concretize import Success
 
-    start = time.perf_counter()
+    start, work = time.perf_counter(), concretizer.work
     action = model.actions[task.action]
     cache = dict(task.cache)
     result = concretizer.concretize(action, task.snapshot, cache, task.values,
@@ -112,7 +113,8 @@ def handle_task(model, concretizer, task: WorkTask) -> WorkReply:
         snapshots = [concretizer.execute(action, successor, outcome, task.snapshot, cache,
                                          env, task.uid, task.state)
                      for successor, outcome in task.edges]
-    return WorkReply(result, snapshots, cache, time.perf_counter() - start)
+    return WorkReply(result, snapshots, cache, time.perf_counter() - start,
+                     work=concretizer.work - work)
 
 
 def worker_failure(which: str, reason: str) -> StampcError:

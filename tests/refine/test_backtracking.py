@@ -338,6 +338,18 @@ def _coverage_from(graph, uid) -> float:
     return coverage(rooted)
 
 
+def _refined_below(graph, uid) -> set[int]:
+    """The refined nodes reachable from ``uid`` (itself included), found by a plain
+    breadth-first walk of the edges."""
+    seen, todo = {uid}, [uid]
+    while todo:
+        for edge in graph[todo.pop()].edges:
+            if edge.child not in seen:
+                seen.add(edge.child)
+                todo.append(edge.child)
+    return {u for u in seen if graph[u].refined}
+
+
 def test_an_ancestor_is_re_sampled_only_while_its_covered_mass_is_worth_the_failing_path():
     """On the fully refined shelf policy, a failing pick(can0) below place(can1) and
     discard(can2): re-drawing the discard would throw away more covered mass than the
@@ -360,11 +372,17 @@ def test_an_ancestor_is_re_sampled_only_while_its_covered_mass_is_worth_the_fail
     assert engine._affordable(graph, upto_pick0, [graph[discard]]) == []
     assert len(engine._notes) == 1 and engine._notes[0].startswith(label[discard])
     assert "not re-sampled" in engine._notes[0]
-    # where the failure left no way below it, a refusal repeats on the same path: after
-    # max_attempts refusals of one ancestor, its re-sample is granted
-    refusals = [engine._affordable(graph, upto_pick0, [graph[discard]], insist=True)
-                for _ in range(engine.options.max_attempts + 1)]
-    assert refusals == [[]] * engine.options.max_attempts + [[graph[discard]]]
+    # where the failure left no way below it, a refusal repeats on the same path: once
+    # the work spent since the first refusal reaches the concretization work of the
+    # refined nodes below the discard (itself included), its re-sample is granted
+    assert engine._spent == engine.concretizer.work == sum(engine._work.values())
+    below = sum(engine._work.get(u, 0) for u in _refined_below(graph, discard))
+    assert 0 < below < engine._spent
+    assert engine._affordable(graph, upto_pick0, [graph[discard]], insist=True) == []
+    engine._spent += below - 1
+    assert engine._affordable(graph, upto_pick0, [graph[discard]], insist=True) == []
+    engine._spent += 1
+    assert engine._affordable(graph, upto_pick0, [graph[discard]], insist=True) == [graph[discard]]
     engine.options = replace(engine.options, max_resample_loss=None)
     assert engine._resample_target(graph, upto_pick0) is graph[discard]
 
