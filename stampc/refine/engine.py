@@ -73,10 +73,10 @@ class Engine(Updating, Backtracking, Reporting):
         self._holding: set[int] = {0}
         self._dead_ends_met: dict[int, int] = {}
         self._refused: dict[int, int] = {}
-        #: concretization work (samples drawn + evaluations) per policy node, and in all
-        #: (``_account``): a deterministic measure, unlike seconds
+        #: concretization work (samples drawn + evaluations) per policy node, and the
+        #: latest concretization's (``_account``): a deterministic measure, unlike seconds
         self._work: dict[int, int] = {}
-        self._spent = 0
+        self._last_work = 0
         #: nodes that must search every sample next (``_concretize_quickly``)
         self._full_search: set[int] = set()
         self._learning = None
@@ -294,7 +294,7 @@ class Engine(Updating, Backtracking, Reporting):
     def _account(self, uid: int, work: int) -> None:
         """Record ``work`` (samples drawn + evaluations) spent concretizing node ``uid``."""
         self._work[uid] = self._work.get(uid, 0) + work
-        self._spent += work
+        self._last_work = work
 
     def _concretize_quickly(self, node: Node, draw: float) -> bool:
         """Whether ``node``'s concretization takes UpdateAbstraction's quick mode (the

@@ -373,15 +373,16 @@ def test_an_ancestor_is_re_sampled_only_while_its_covered_mass_is_worth_the_fail
     assert len(engine._notes) == 1 and engine._notes[0].startswith(label[discard])
     assert "not re-sampled" in engine._notes[0]
     # where the failure left no way below it, a refusal repeats on the same path: once
-    # the work spent since the first refusal reaches the concretization work of the
-    # refined nodes below the discard (itself included), its re-sample is granted
-    assert engine._spent == engine.concretizer.work == sum(engine._work.values())
+    # the work of the failed concretizations behind its refusals reaches the
+    # concretization work of the refined nodes below the discard (itself included),
+    # its re-sample is granted
+    assert sum(engine._work.values()) == engine.concretizer.work
     below = sum(engine._work.get(u, 0) for u in _refined_below(graph, discard))
-    assert 0 < below < engine._spent
+    assert 0 < below < engine.concretizer.work
+    engine._last_work = below - 1
     assert engine._affordable(graph, upto_pick0, [graph[discard]], insist=True) == []
-    engine._spent += below - 1
+    engine._last_work = 1
     assert engine._affordable(graph, upto_pick0, [graph[discard]], insist=True) == []
-    engine._spent += 1
     assert engine._affordable(graph, upto_pick0, [graph[discard]], insist=True) == [graph[discard]]
     engine.options = replace(engine.options, max_resample_loss=None)
     assert engine._resample_target(graph, upto_pick0) is graph[discard]
