@@ -19,7 +19,8 @@ from stampc.refine.engine import Engine
 from stampc.refine.export import policy_json, write_outputs
 from stampc.refine.graph import PolicyGraph
 from stampc.refine.history import prg_history
-from stampc.refine.options import ProgressEvent, RefineOptions, RefineResult, check_refine_options
+from stampc.refine.options import (ProgressEvent, RefineOptions, RefineResult,
+                                   check_refine_options, options_record)
 from stampc.worlds.bindings import ResolvedBindings
 
 __all__ = ["Engine", "ProgressEvent", "RefineOptions", "RefineResult", "RefinedPolicy",
@@ -85,7 +86,8 @@ def run_refinement(model: GroundModel, world: Any, bindings: ResolvedBindings,
         error = traceback.format_exc()
     result = engine.result()
     return RefinedPolicy(result, engine.best_graph, model, engine.initial_values,
-                         dict(meta or {}), prg_history(engine.prg, result.events, engine.best_prg),
+                         {**(meta or {}), "options": options_record(options)},
+                         prg_history(engine.prg, result.events, engine.best_prg),
                          error=error)
 
 

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
+from typing import Any
 
 from stampc.diagnostics import Diagnostic, Span, StampcError, error
 from stampc.solvers import SolverOptions
@@ -235,3 +236,22 @@ class RefineResult:
     recalled_facts: int = 0
     #: counters of a parallel run (``--workers N``, N > 1; ``stampc.refine.parallel``)
     parallel: dict | None = None
+
+
+def options_record(options: RefineOptions) -> dict[str, Any]:
+    """``options`` as plain JSON values (sets sorted into lists, non-finite numbers as
+    strings), written beside a run's results so that the settings that produced them
+    travel with them (summary.json, policy.json)."""
+    return _plain(asdict(options))
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (set, frozenset)):
+        return sorted((_plain(v) for v in value), key=repr)
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return str(value)
+    return value

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from stampc.cli import main
+from stampc.refine import RefineOptions
 
 from .paths import EXAMPLES
 
@@ -77,6 +78,20 @@ def test_refine_below_target_coverage_exits_3_with_the_partial_policy(tmp_path, 
     summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
     assert summary["coverage"] < 1.0
     assert (out / "policy.json").is_file()
+
+
+def test_the_run_s_options_are_written_beside_its_results(tmp_path):
+    """summary.json and policy.json record the engine options the run used (plain JSON:
+    no NaN or Infinity), the ones given and the defaults."""
+    out = tmp_path / "out"
+    assert main(["refine", DOMAIN, PROBLEM2D, "--time-limit", "0.001", "--quiet", "--seed", "7",
+                 "--max-resample-loss", "0.25", "-o", str(out)]) == 3
+    for name in ("summary.json", "policy.json"):
+        options = json.loads((out / name).read_text(encoding="utf-8"),
+                             parse_constant=lambda c: pytest.fail(f"{name}: {c}"))["options"]
+        assert (options["seed"], options["max_resample_loss"], options["time_limit"]) == (7, 0.25, 0.001)
+        assert options["max_attempts"] == RefineOptions().max_attempts
+        assert options["solver"]["forbidden"] == []
 
 
 def test_execute_exits_3_when_a_refined_branch_fails(tmp_path, capsys):
