@@ -55,10 +55,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write an obstruction by an object the previous action just "
                              "placed into the abstract state, instead of re-sampling that "
                              "placement first (docs/refine.md)")
-    parser.add_argument("--max-resample-loss", type=ratio_or_none, default=None, metavar="X",
+    parser.add_argument("--max-resample-loss", type=ratio_or_none, default=1.0, metavar="X",
                         help="re-sample a refined ancestor only while the covered mass below "
-                             "it is at most X times the failing path's probability "
-                             "(default 'none': no limit; docs/refine.md)")
+                             "it is at most X times the failing path's probability, or once "
+                             "the refusals' failed work reaches the work below it (default "
+                             "1; 'none': no limit; docs/refine.md)")
     parser.add_argument("--fewest-facts", action="store_true",
                         help="when every sample of a full search fails, write back the "
                              "sample with the fewest violated facts, even one that locks "

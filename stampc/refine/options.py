@@ -97,11 +97,12 @@ class RefineOptions:
     #: the coverage of its subtree) is at most this many times the failing path's
     #: probability: a re-sample discards every refinement below the node (cluttered-25
     #: seed 5 re-drew a placement with 0.375 of the mass covered below it). Otherwise the
-    #: failure is learned, explored or broadened as with no ancestor to re-sample. Off
-    #: (None) by default: 1.0 solved cluttered-20 seed 3 and raised cluttered-25 seed 5
-    #: to 0.9573 but looped on aircraft seed 4; with the escape that fixed that, both
-    #: hard runs ended below the default's figures (docs/refine.md).
-    max_resample_loss: float | None = None
+    #: failure is learned, explored or broadened as with no ancestor to re-sample; where
+    #: the failure left no way to the goal, a refusal is rented until the failed work
+    #: behind it reaches the work below the ancestor (``Backtracking._affordable``).
+    #: None: no limit. 1.0 solved cluttered-20 seed 3 (996 s) and raised cluttered-25
+    #: seed 5 from 0.9087 to 0.9706, every other paper run solved (docs/benchmarks.md).
+    max_resample_loss: float | None = 1.0
     #: a fact learned true that names an object the failing node's nearest refined
     #: ancestor put at a value it sampled (a can just placed in the way) re-samples that
     #: ancestor, up to ``max_resamples`` times, instead of being written into the

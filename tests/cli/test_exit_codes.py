@@ -187,7 +187,7 @@ def test_fewest_facts_reaches_the_engine_options(flags, lock_free):
     assert refine_command.refine_options(args).learn_lock_free is lock_free
 
 
-@pytest.mark.parametrize("flags,loss", [((), None), (("--max-resample-loss", "0.25"), 0.25),
+@pytest.mark.parametrize("flags,loss", [((), 1.0), (("--max-resample-loss", "0.25"), 0.25),
                                         (("--max-resample-loss", "none"), None)])
 def test_max_resample_loss_reaches_the_engine_options(flags, loss):
     """``--max-resample-loss`` sets the limit on the covered mass a re-sample may discard
