@@ -37,7 +37,13 @@ def test_checked_in_problem_is_the_generators_output():
 def test_refinement_reaches_the_target_coverage(run):
     result = run.result
     assert result.coverage >= 0.9
-    assert result.goal_probability >= 0.88  # refined mass reaching the goal
+    # the rest of the covered mass ends in proven dead ends (a leg the battery cannot
+    # fly); which ones are refined by 90 % depends on the path taken: 0.0074 without
+    # the re-sample loss limit, 0.0238 with it (it re-draws no flight here), ~0.01 in
+    # full runs (bench/paper.py)
+    assert result.coverage - result.goal_probability == pytest.approx(result.dead_end_mass)
+    assert result.dead_end_mass < 0.05
+    assert result.goal_probability >= 0.85  # refined mass reaching the goal
     assert result.time_to_coverage["0.9"] is not None
 
 
