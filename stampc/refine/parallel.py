@@ -202,6 +202,7 @@ class ParallelEngine(Engine):
     def _apply(self, item: _Pending) -> tuple[str, str]:
         self.stats.integrated += 1
         item.concrete.cache.update(item.reply.cache)
+        # the work of replies too late to apply is not counted: it refined nothing
         self._account(item.path[-1], item.reply.work)
         return self._integrate(item.graph, item.path, item.reply.result, item.values,
                                item.reply.snapshots)
