@@ -164,6 +164,28 @@ def test_probe_sends_a_node_to_a_worker(probe, monkeypatch):
     assert run.result.parallel["worker_busy_s"] > 0 and run.result.parallel["critical_s"] > 0
 
 
+def test_the_work_of_replies_is_counted_per_node(probe, monkeypatch):
+    """Every reply the engine integrates, a worker's or its own, adds its concretization
+    work (samples drawn + evaluations, what re-sample refusals are weighed by) to the
+    node it refined."""
+    from stampc.refine.parallel import ParallelEngine
+
+    counted: list[tuple[int, int]] = []
+    account = ParallelEngine._account
+
+    def recording(self, uid, work):
+        counted.append((uid, work))
+        account(self, uid, work)
+
+    monkeypatch.setattr(ParallelEngine, "_account", recording)
+    run = waited(monkeypatch, probe("fine"), 2, seed=0)
+    assert len(counted) >= run.result.parallel["integrated"] > 0
+    # toss() has no generator and no `?` check (0); each finish draws the one sample of
+    # `make` (1), on either outcome
+    assert sorted(work for _, work in counted) == [0, 1, 1]
+    assert len({uid for uid, _ in counted}) == 3
+
+
 def test_a_worker_that_dies_is_a_located_diagnostic(probe, capsys, monkeypatch):
     files = probe("dies")
     monkeypatch.setenv("STAMPC_WAIT_FOR_WORKERS", "1")  # the batch's second task: the worker
