@@ -119,11 +119,12 @@ class Backtracking:
         sends the PRG back a step, where the same path is selected again. Refusing goes
         on while the work of the failed concretizations behind an ancestor's refusals so
         far (each refusal adds the latest concretization's work: the failing node's, or
-        where its action was given up without one, the step before's) is less than the work its re-sample would throw away (the concretization
-        work of the refined nodes below it, itself included); then it is granted (ski
-        rental: at most about twice the cheaper of the two). Without this, aircraft seed
-        4 went back to the same PRG node 139 times in 60 s for a 0.00017 path below a
-        flight with 0.018 covered under it, cheap to refine again. A fixed count of 3
+        where its action was given up without one, the step before's) is less than the
+        work its re-sample would throw away (the concretization work of the refined nodes
+        below it, itself included); then it is granted (ski rental: at most about twice
+        the cheaper of the two). Without this, aircraft seed 4 went back to the same PRG
+        node 139 times in 60 s for a 0.00017 path below a flight with 0.018 covered under
+        it, cheap to refine again. A fixed count of 3
         refusals left cluttered-20 seed 3 and cluttered-25 seed 5, whose placements
         carry costly subtrees, at 0.9981 and 0.8965; counting all the work since the
         first refusal granted at once where a refusal came back after other work
