@@ -202,6 +202,24 @@ def test_max_resample_loss_reaches_the_engine_options(flags, loss):
     assert refine_command.refine_options(args).max_resample_loss == loss
 
 
+def test_the_command_line_defaults_are_the_engine_defaults():
+    """``stampc refine`` without options runs the engine with ``RefineOptions()``: the
+    command line states its defaults as literals (its help shows them, and importing the
+    engine to read them would slow every command), so this pins the two together."""
+    import argparse
+    import dataclasses
+
+    from stampc.commands import refine as refine_command
+
+    parser = argparse.ArgumentParser()
+    refine_command.add_arguments(parser)
+    cli = refine_command.refine_options(parser.parse_args([DOMAIN, PROBLEM2D]))
+    library = RefineOptions()
+    differ = [f.name for f in dataclasses.fields(library)
+              if getattr(cli, f.name) != getattr(library, f.name)]
+    assert differ == []
+
+
 @pytest.mark.parametrize("value", ["-1", "nan", "inf", "lots"])
 def test_a_bad_max_resample_loss_is_a_usage_error(value, capsys):
     assert main(["refine", DOMAIN, PROBLEM2D, "--max-resample-loss", value]) == 2
