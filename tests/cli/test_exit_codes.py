@@ -173,18 +173,22 @@ def test_fixed_solve_cap_reaches_the_engine(tmp_path, capsys):
     assert adaptive["coverage"] == pytest.approx(1.0) == fixed["coverage"]
 
 
-@pytest.mark.parametrize("flags,lock_free", [((), True), (("--fewest-facts",), False)])
-def test_fewest_facts_reaches_the_engine_options(flags, lock_free):
-    """``--fewest-facts`` turns the lock-free choice of learned facts off (the choice
-    itself: tests/refine/test_learning_choice.py)."""
+def _cli_options(*flags: str) -> RefineOptions:
+    """The engine options ``stampc refine DOMAIN PROBLEM *flags`` builds."""
     import argparse
 
     from stampc.commands import refine as refine_command
 
     parser = argparse.ArgumentParser()
     refine_command.add_arguments(parser)
-    args = parser.parse_args([DOMAIN, PROBLEM2D, *flags])
-    assert refine_command.refine_options(args).learn_lock_free is lock_free
+    return refine_command.refine_options(parser.parse_args([DOMAIN, PROBLEM2D, *flags]))
+
+
+@pytest.mark.parametrize("flags,lock_free", [((), True), (("--fewest-facts",), False)])
+def test_fewest_facts_reaches_the_engine_options(flags, lock_free):
+    """``--fewest-facts`` turns the lock-free choice of learned facts off (the choice
+    itself: tests/refine/test_learning_choice.py)."""
+    assert _cli_options(*flags).learn_lock_free is lock_free
 
 
 @pytest.mark.parametrize("flags,loss", [((), 1.0), (("--max-resample-loss", "0.25"), 0.25),
@@ -192,28 +196,16 @@ def test_fewest_facts_reaches_the_engine_options(flags, lock_free):
 def test_max_resample_loss_reaches_the_engine_options(flags, loss):
     """``--max-resample-loss`` sets the limit on the covered mass a re-sample may discard
     (the rule itself: tests/refine/test_backtracking.py)."""
-    import argparse
-
-    from stampc.commands import refine as refine_command
-
-    parser = argparse.ArgumentParser()
-    refine_command.add_arguments(parser)
-    args = parser.parse_args([DOMAIN, PROBLEM2D, *flags])
-    assert refine_command.refine_options(args).max_resample_loss == loss
+    assert _cli_options(*flags).max_resample_loss == loss
 
 
 def test_the_command_line_defaults_are_the_engine_defaults():
     """``stampc refine`` without options runs the engine with ``RefineOptions()``: the
     command line states its defaults as literals (its help shows them, and importing the
     engine to read them would slow every command), so this pins the two together."""
-    import argparse
     import dataclasses
 
-    from stampc.commands import refine as refine_command
-
-    parser = argparse.ArgumentParser()
-    refine_command.add_arguments(parser)
-    cli = refine_command.refine_options(parser.parse_args([DOMAIN, PROBLEM2D]))
+    cli = _cli_options()
     library = RefineOptions()
     differ = [f.name for f in dataclasses.fields(library)
               if getattr(cli, f.name) != getattr(library, f.name)]
