@@ -124,11 +124,11 @@ class Backtracking:
         below it, itself included); then it is granted (ski rental: at most about twice
         the cheaper of the two). Without this, aircraft seed 4 went back to the same PRG
         node 139 times in 60 s for a 0.00017 path below a flight with 0.018 covered under
-        it, cheap to refine again. A fixed count of 3
-        refusals left cluttered-20 seed 3 and cluttered-25 seed 5, whose placements
-        carry costly subtrees, at 0.9981 and 0.8965; counting all the work since the
-        first refusal granted at once where a refusal came back after other work
-        (0.9987 and 0.8965); this rent solved the first and raised the second to 0.9706."""
+        it, cheap to refine again. A fixed count of 3 refusals left cluttered-20 seed 3
+        and cluttered-25 seed 5, whose placements carry costly subtrees, at 0.9981 and
+        0.8965; counting all the work since the first refusal granted at once where a
+        refusal came back after other work (0.9987 and 0.8965); this rent solved the
+        first and raised the second to 0.9706."""
         limit = self.options.max_resample_loss
         if limit is None or not nodes:
             return nodes
